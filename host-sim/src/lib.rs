@@ -1,0 +1,10 @@
+//! # host-sim
+//!
+//! The host side of lugre-servo: an electro-hydraulic cylinder simulator that stands in for
+//! hardware ([`plant`]), the experiments engineers run on a rig ([`experiments`]), the common
+//! measurement format ([`record`]) and parameter file ([`params_file`]).
+
+pub mod experiments;
+pub mod params_file;
+pub mod plant;
+pub mod record;

@@ -1,0 +1,237 @@
+//! `host-sim`: the lugre-servo command-line tool.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use host_sim::experiments::{self, SteadyPoint};
+use host_sim::params_file::ParamFile;
+use host_sim::plant::{PlantConfig, SensorConfig};
+use host_sim::record::Record;
+use lugre_servo::friction::effects as fx;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "host-sim", version, about = "Electro-hydraulic servo axis simulator and LuGre friction tools")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// The whole story on the simulated Table 2 cylinder (writes into --out).
+    Demo {
+        /// Output folder for CSVs, parameter files and reports.
+        #[arg(long, default_value = "demo-out")]
+        out: PathBuf,
+    },
+    /// Runs one experiment on the simulated axis and writes the record as CSV.
+    Simulate {
+        /// Which experiment.
+        #[arg(value_enum)]
+        experiment: Experiment,
+        /// Output CSV.
+        #[arg(long, short)]
+        out: PathBuf,
+        /// Plant friction from a parameter file (default: Table 2).
+        #[arg(long)]
+        params: Option<PathBuf>,
+        /// Extra physical effects to switch on in the plant, with demo-sized strengths
+        /// (comma separated; see `lugre_servo::friction::effects`).
+        #[arg(long, value_delimiter = ',')]
+        effect: Vec<String>,
+        /// Sensor models.
+        #[arg(long, value_enum, default_value = "realistic")]
+        noise: Noise,
+        /// Noise seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Duration [s] (trajectories and ramp).
+        #[arg(long, default_value_t = 20.0)]
+        duration: f64,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Experiment {
+    /// Constant-velocity sweep in both directions (steady-state friction curve).
+    Sweep,
+    /// Slow force ramp below breakaway (pre-sliding).
+    Ramp,
+    /// Slow sinusoid with many reversals.
+    Sine,
+    /// Trapezoidal moves with dwells.
+    Trapezoid,
+}
+
+/// Sensor settings.
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
+enum Noise {
+    /// Perfect sensors (the paper's setting).
+    Ideal,
+    /// Quantised encoder, noisy pressures, one-sample delay.
+    Realistic,
+}
+
+fn sensors(noise: Noise, seed: u64) -> SensorConfig {
+    match noise {
+        Noise::Ideal => SensorConfig::ideal(),
+        Noise::Realistic => SensorConfig::realistic(seed),
+    }
+}
+
+/// Switches an effect on in a plant configuration with a clearly visible strength.
+fn switch_effect(cfg: &mut PlantConfig, name: &str) -> Result<(), String> {
+    let e = &mut cfg.friction.effects;
+    let p_sum = cfg.valve.supply_pressure_pa;
+    match name {
+        "asymmetry" => e.asymmetry = Some(fx::Asymmetry { coulomb_ratio: 0.15, viscous_ratio: 0.25 }),
+        "offset" => e.offset = Some(fx::Offset { force: 150.0 }),
+        "load_dependence" => {
+            e.load_dependence = Some(fx::LoadDependence { coefficient: 1.5e-5, reference_pressure_sum: p_sum })
+        }
+        "position_dependence" => {
+            e.position_dependence = Some(fx::PositionDependence { gradient: 800.0, center: 0.25 })
+        }
+        "temperature_dependence" => {
+            e.temperature_dependence = Some(fx::TemperatureDependence {
+                viscous_per_kelvin: 0.02,
+                coulomb_per_kelvin: 0.01,
+                reference_temperature: 40.0,
+            });
+            cfg.thermal.extra_heat_w = 400.0;
+        }
+        "stribeck_shape" => e.stribeck_shape = Some(fx::StribeckShape { exponent: 0.8 }),
+        "viscous_power" => {
+            e.viscous_power = Some(fx::ViscousPower { exponent: 0.6, reference_velocity: 0.02 })
+        }
+        "dwell_stiction" => {
+            e.dwell_stiction = Some(fx::DwellStiction { max_increase: 250.0, time_constant: 0.5, stick_velocity: 2e-4 })
+        }
+        other => {
+            return Err(format!(
+                "unknown effect '{other}'; known: {}",
+                lugre_servo::friction::EFFECT_NAMES.join(", ")
+            ))
+        }
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo { out } => demo(&out),
+        Command::Simulate { experiment, out, params, effect, noise, seed, duration } => {
+            simulate(experiment, &out, params.as_deref(), &effect, sensors(noise, seed), duration)
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn simulate(
+    experiment: Experiment,
+    out: &Path,
+    params: Option<&Path>,
+    effects: &[String],
+    sensors: SensorConfig,
+    duration: f64,
+) -> Result<(), String> {
+    let mut cfg = PlantConfig::default();
+    if let Some(p) = params {
+        let (file, model) = ParamFile::read(p)?;
+        cfg.friction = model;
+        cfg.cylinder.moving_mass_kg = file.axis.moving_mass_kg;
+    }
+    for e in effects {
+        switch_effect(&mut cfg, e)?;
+    }
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err("--duration must be a positive number of seconds".into());
+    }
+    let rec = run_experiment(experiment, &cfg, sensors, duration);
+    rec.write(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    println!("wrote {} ({} samples)", out.display(), rec.len());
+    Ok(())
+}
+
+fn run_experiment(experiment: Experiment, cfg: &PlantConfig, sensors: SensorConfig, duration: f64) -> Record {
+    match experiment {
+        Experiment::Sweep => experiments::velocity_sweep(cfg, sensors, &experiments::log_speeds(5e-4, 0.1, 12)).0,
+        Experiment::Ramp => experiments::presliding_ramp(cfg, sensors, 0.7, duration),
+        Experiment::Sine => experiments::sinusoid(cfg, sensors, 0.01, 0.25, duration),
+        Experiment::Trapezoid => experiments::trapezoid(cfg, sensors, 0.05, 0.05, 0.5, 0.5, duration),
+    }
+}
+
+fn print_curve(points: &[SteadyPoint], cfg: &PlantConfig) {
+    let model = &cfg.friction;
+    let c = model.effects.reference_conditions();
+    println!("  {:>11}  {:>11}  {:>11}  {:>8}", "v [mm/s]", "F meas [N]", "Fss(v) [N]", "err [%]");
+    for p in points {
+        let truth = model.steady_state_force(p.velocity, &c);
+        println!(
+            "  {:>11.3}  {:>11.2}  {:>11.2}  {:>8.3}",
+            p.velocity * 1e3,
+            p.force,
+            truth,
+            100.0 * (p.force - truth) / truth.abs()
+        );
+    }
+}
+
+fn demo(out: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let cfg = PlantConfig::default();
+    let cyl = &cfg.cylinder;
+    println!("== 1. The plant: electro-hydraulic position axis (Table 2 friction) ==");
+    println!(
+        "  cylinder {:.0} mm bore, {:.0} mm stroke, {} kg moving mass, supply {:.0} bar, valve {:.0} L/min @ {:.0} bar, {} Hz spool",
+        (4.0 * cyl.piston_area_m2 / std::f64::consts::PI).sqrt() * 1e3,
+        cyl.stroke_m * 1e3,
+        cyl.moving_mass_kg,
+        cfg.valve.supply_pressure_pa / 1e5,
+        cfg.valve.rated_flow_m3_per_s * 60_000.0,
+        cfg.valve.rated_pressure_drop_pa / 1e5,
+        cfg.valve.natural_frequency_hz
+    );
+    let p = &cfg.friction.params;
+    println!(
+        "  LuGre: sigma0 {:.3e} N/m, sigma1 {} N s/m, sigma2 {} N s/m, Fc {} N, Fs {} N, vs {} m/s",
+        p.bristle_stiffness(),
+        p.bristle_damping(),
+        p.viscous_coefficient(),
+        p.coulomb_force(),
+        p.static_force(),
+        p.stribeck_velocity()
+    );
+    let sensors = SensorConfig::realistic(1);
+    let wall = std::time::Instant::now();
+    let (sweep, points) = experiments::velocity_sweep(&cfg, sensors, &experiments::log_speeds(5e-4, 0.1, 12));
+    let sweep_s = sweep.t.last().copied().unwrap_or(0.0);
+    println!("\n== 2. Steady-state friction curve (constant-velocity sweep, realistic sensors) ==");
+    print_curve(&points, &cfg);
+    let ramp = experiments::presliding_ramp(&cfg, sensors, 0.7, 8.0);
+    let sine = experiments::sinusoid(&cfg, sensors, 0.01, 0.25, 20.0);
+    let trap = experiments::trapezoid(&cfg, sensors, 0.05, 0.05, 0.5, 0.5, 20.0);
+    let sim_s = sweep_s + 8.0 + 20.0 + 20.0;
+    let wall_s = wall.elapsed().as_secs_f64();
+    for (name, rec) in [("sweep", &sweep), ("ramp", &ramp), ("sine", &sine), ("trapezoid", &trap)] {
+        let path = out.join(format!("{name}.csv"));
+        rec.write(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("  wrote {}", path.display());
+    }
+    let x_pre = ramp.x.iter().fold(0.0f64, |m, &x| m.max((x - ramp.x[0]).abs()));
+    println!(
+        "  pre-sliding ramp to 0.7 Fs: peak displacement {:.3} um (sigma0 predicts {:.3} um; encoder 0.1 um)",
+        x_pre * 1e6,
+        0.7 * p.static_force() / p.bristle_stiffness() * 1e6
+    );
+    println!("  simulated {sim_s:.1} s in {wall_s:.2} s wall ({:.0}x real time)", sim_s / wall_s);
+    Ok(())
+}

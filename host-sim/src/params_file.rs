@@ -1,0 +1,344 @@
+//! The parameter file (TOML) that identification writes and every other tool reads.
+//!
+//! ```toml
+//! [lugre]
+//! bristle_stiffness_n_per_m = 3.9e9      # sigma0
+//! bristle_damping_n_s_per_m = 200.0      # sigma1
+//! viscous_coefficient_n_s_per_m = 48900  # sigma2
+//! coulomb_force_n = 506.0                # Fc
+//! static_force_n = 632.0                 # Fs
+//! stribeck_velocity_m_per_s = 0.005      # vs
+//!
+//! [axis]
+//! moving_mass_kg = 200.0
+//!
+//! [effects.asymmetry]                    # any of the eight effects, all optional
+//! coulomb_ratio = 0.1
+//! viscous_ratio = 0.2
+//!
+//! [fit]                                  # optional: how the values were obtained
+//! algorithm = "improved"
+//! static_fitness = 1.2e-9
+//! ```
+
+use lugre_servo::friction::effects as fx;
+use lugre_servo::friction::{Effects, FrictionModel, LugreParams};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// `[lugre]`: the six base parameters with their units in the key names.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LugreSection {
+    /// sigma0 [N/m].
+    pub bristle_stiffness_n_per_m: f64,
+    /// sigma1 [N s/m].
+    pub bristle_damping_n_s_per_m: f64,
+    /// sigma2 [N s/m].
+    pub viscous_coefficient_n_s_per_m: f64,
+    /// Fc [N].
+    pub coulomb_force_n: f64,
+    /// Fs [N].
+    pub static_force_n: f64,
+    /// vs [m/s].
+    pub stribeck_velocity_m_per_s: f64,
+}
+
+/// `[axis]`.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct AxisSection {
+    /// Moving mass M [kg].
+    pub moving_mass_kg: f64,
+}
+
+/// `[effects]`: the extra effects, each a table with its parameters (see the core's
+/// `friction::effects` for the equations).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct EffectsSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub asymmetry: Option<AsymmetryT>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub offset: Option<OffsetT>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load_dependence: Option<LoadT>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub position_dependence: Option<PositionT>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temperature_dependence: Option<TemperatureT>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stribeck_shape: Option<ShapeT>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub viscous_power: Option<PowerT>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dwell_stiction: Option<DwellT>,
+}
+
+#[allow(missing_docs)]
+mod tables {
+    use serde::{Deserialize, Serialize};
+    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[serde(deny_unknown_fields)]
+    pub struct AsymmetryT {
+        pub coulomb_ratio: f64,
+        pub viscous_ratio: f64,
+    }
+    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[serde(deny_unknown_fields)]
+    pub struct OffsetT {
+        pub force_n: f64,
+    }
+    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[serde(deny_unknown_fields)]
+    pub struct LoadT {
+        pub coefficient_n_per_pa: f64,
+        pub reference_pressure_sum_pa: f64,
+    }
+    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[serde(deny_unknown_fields)]
+    pub struct PositionT {
+        pub gradient_n_per_m: f64,
+        pub center_m: f64,
+    }
+    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[serde(deny_unknown_fields)]
+    pub struct TemperatureT {
+        pub viscous_per_kelvin: f64,
+        pub coulomb_per_kelvin: f64,
+        pub reference_temperature_c: f64,
+    }
+    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[serde(deny_unknown_fields)]
+    pub struct ShapeT {
+        pub exponent: f64,
+    }
+    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[serde(deny_unknown_fields)]
+    pub struct PowerT {
+        pub exponent: f64,
+        pub reference_velocity_m_per_s: f64,
+    }
+    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[serde(deny_unknown_fields)]
+    pub struct DwellT {
+        pub max_increase_n: f64,
+        pub time_constant_s: f64,
+        pub stick_velocity_m_per_s: f64,
+    }
+}
+pub use tables::*;
+
+/// `[fit]`: provenance of the values.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[allow(missing_docs)]
+pub struct FitSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub algorithm: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub static_fitness: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dynamic_fitness: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rel_err_pct: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
+}
+
+/// The whole file.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ParamFile {
+    /// Base LuGre parameters.
+    pub lugre: LugreSection,
+    /// Axis data.
+    pub axis: AxisSection,
+    /// Extra effects.
+    #[serde(default)]
+    pub effects: EffectsSection,
+    /// Provenance.
+    #[serde(default)]
+    pub fit: FitSection,
+}
+
+impl ParamFile {
+    /// A file for a model and a mass.
+    pub fn new(model: &FrictionModel<f64>, moving_mass_kg: f64) -> Self {
+        let p = &model.params;
+        let e = &model.effects;
+        Self {
+            lugre: LugreSection {
+                bristle_stiffness_n_per_m: p.bristle_stiffness(),
+                bristle_damping_n_s_per_m: p.bristle_damping(),
+                viscous_coefficient_n_s_per_m: p.viscous_coefficient(),
+                coulomb_force_n: p.coulomb_force(),
+                static_force_n: p.static_force(),
+                stribeck_velocity_m_per_s: p.stribeck_velocity(),
+            },
+            axis: AxisSection { moving_mass_kg },
+            effects: EffectsSection {
+                asymmetry: e.asymmetry.map(|a| AsymmetryT {
+                    coulomb_ratio: a.coulomb_ratio,
+                    viscous_ratio: a.viscous_ratio,
+                }),
+                offset: e.offset.map(|o| OffsetT { force_n: o.force }),
+                load_dependence: e.load_dependence.map(|l| LoadT {
+                    coefficient_n_per_pa: l.coefficient,
+                    reference_pressure_sum_pa: l.reference_pressure_sum,
+                }),
+                position_dependence: e.position_dependence.map(|x| PositionT {
+                    gradient_n_per_m: x.gradient,
+                    center_m: x.center,
+                }),
+                temperature_dependence: e.temperature_dependence.map(|t| TemperatureT {
+                    viscous_per_kelvin: t.viscous_per_kelvin,
+                    coulomb_per_kelvin: t.coulomb_per_kelvin,
+                    reference_temperature_c: t.reference_temperature,
+                }),
+                stribeck_shape: e.stribeck_shape.map(|s| ShapeT { exponent: s.exponent }),
+                viscous_power: e.viscous_power.map(|v| PowerT {
+                    exponent: v.exponent,
+                    reference_velocity_m_per_s: v.reference_velocity,
+                }),
+                dwell_stiction: e.dwell_stiction.map(|d| DwellT {
+                    max_increase_n: d.max_increase,
+                    time_constant_s: d.time_constant,
+                    stick_velocity_m_per_s: d.stick_velocity,
+                }),
+            },
+            fit: FitSection::default(),
+        }
+    }
+
+    /// The validated model (error names the field and says what is wrong).
+    pub fn model(&self) -> Result<FrictionModel<f64>, String> {
+        let l = &self.lugre;
+        let params = LugreParams::new(
+            l.bristle_stiffness_n_per_m,
+            l.bristle_damping_n_s_per_m,
+            l.viscous_coefficient_n_s_per_m,
+            l.coulomb_force_n,
+            l.static_force_n,
+            l.stribeck_velocity_m_per_s,
+        )
+        .map_err(|e| format!("[lugre] {e}"))?;
+        if !(self.axis.moving_mass_kg.is_finite() && self.axis.moving_mass_kg > 0.0) {
+            return Err("[axis] moving_mass_kg must be a finite number greater than zero".into());
+        }
+        let e = &self.effects;
+        let finite = |name: &str, vals: &[f64]| -> Result<(), String> {
+            if vals.iter().all(|v| v.is_finite()) {
+                Ok(())
+            } else {
+                Err(format!("[effects.{name}] every value must be finite"))
+            }
+        };
+        let positive = |name: &str, what: &str, v: f64| -> Result<(), String> {
+            if v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("[effects.{name}] {what} must be greater than zero"))
+            }
+        };
+        let mut effects = Effects::none();
+        if let Some(a) = e.asymmetry {
+            finite("asymmetry", &[a.coulomb_ratio, a.viscous_ratio])?;
+            if a.coulomb_ratio.abs() >= 1.0 || a.viscous_ratio.abs() >= 1.0 {
+                return Err("[effects.asymmetry] ratios must be within (-1, 1)".into());
+            }
+            effects.asymmetry = Some(fx::Asymmetry {
+                coulomb_ratio: a.coulomb_ratio,
+                viscous_ratio: a.viscous_ratio,
+            });
+        }
+        if let Some(o) = e.offset {
+            finite("offset", &[o.force_n])?;
+            effects.offset = Some(fx::Offset { force: o.force_n });
+        }
+        if let Some(l) = e.load_dependence {
+            finite("load_dependence", &[l.coefficient_n_per_pa, l.reference_pressure_sum_pa])?;
+            effects.load_dependence = Some(fx::LoadDependence {
+                coefficient: l.coefficient_n_per_pa,
+                reference_pressure_sum: l.reference_pressure_sum_pa,
+            });
+        }
+        if let Some(x) = e.position_dependence {
+            finite("position_dependence", &[x.gradient_n_per_m, x.center_m])?;
+            effects.position_dependence = Some(fx::PositionDependence {
+                gradient: x.gradient_n_per_m,
+                center: x.center_m,
+            });
+        }
+        if let Some(t) = e.temperature_dependence {
+            finite(
+                "temperature_dependence",
+                &[t.viscous_per_kelvin, t.coulomb_per_kelvin, t.reference_temperature_c],
+            )?;
+            effects.temperature_dependence = Some(fx::TemperatureDependence {
+                viscous_per_kelvin: t.viscous_per_kelvin,
+                coulomb_per_kelvin: t.coulomb_per_kelvin,
+                reference_temperature: t.reference_temperature_c,
+            });
+        }
+        if let Some(s) = e.stribeck_shape {
+            finite("stribeck_shape", &[s.exponent])?;
+            positive("stribeck_shape", "exponent", s.exponent)?;
+            effects.stribeck_shape = Some(fx::StribeckShape { exponent: s.exponent });
+        }
+        if let Some(v) = e.viscous_power {
+            finite("viscous_power", &[v.exponent, v.reference_velocity_m_per_s])?;
+            positive("viscous_power", "exponent", v.exponent)?;
+            positive("viscous_power", "reference_velocity_m_per_s", v.reference_velocity_m_per_s)?;
+            effects.viscous_power = Some(fx::ViscousPower {
+                exponent: v.exponent,
+                reference_velocity: v.reference_velocity_m_per_s,
+            });
+        }
+        if let Some(d) = e.dwell_stiction {
+            finite(
+                "dwell_stiction",
+                &[d.max_increase_n, d.time_constant_s, d.stick_velocity_m_per_s],
+            )?;
+            positive("dwell_stiction", "time_constant_s", d.time_constant_s)?;
+            positive("dwell_stiction", "stick_velocity_m_per_s", d.stick_velocity_m_per_s)?;
+            effects.dwell_stiction = Some(fx::DwellStiction {
+                max_increase: d.max_increase_n,
+                time_constant: d.time_constant_s,
+                stick_velocity: d.stick_velocity_m_per_s,
+            });
+        }
+        Ok(FrictionModel { params, effects })
+    }
+
+    /// Reads, parses and validates a parameter file; errors name the file (and line/column for
+    /// syntax errors, the field for invalid values).
+    pub fn read(path: &Path) -> Result<(Self, FrictionModel<f64>), String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let file: ParamFile = toml::from_str(&text).map_err(|e| {
+            let at = e
+                .span()
+                .map(|s| {
+                    let before = &text[..s.start.min(text.len())];
+                    let line = before.matches('\n').count() + 1;
+                    let col = s.start - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+                    format!(":{line}:{col}")
+                })
+                .unwrap_or_default();
+            format!("{}{at}: {}", path.display(), e.message())
+        })?;
+        let model = file.model().map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok((file, model))
+    }
+
+    /// Writes the file with a header comment.
+    pub fn write(&self, path: &Path) -> std::io::Result<()> {
+        let body = toml::to_string_pretty(self).map_err(std::io::Error::other)?;
+        let text = format!(
+            "# lugre-servo parameter file. SI units, in the key names.\n\
+             # sigma0 = bristle_stiffness, sigma1 = bristle_damping, sigma2 = viscous_coefficient,\n\
+             # Fc = coulomb_force, Fs = static_force, vs = stribeck_velocity.\n\n{body}"
+        );
+        std::fs::write(path, text)
+    }
+}

@@ -1,0 +1,170 @@
+//! Extra physical effects a friction model can carry beyond plain LuGre.
+//!
+//! The simulator switches them on to make a plant, the diagnosis fits them to measurements, and
+//! the compensator runs the ones it can afford at 1 kHz: all three use this code. Every effect
+//! is off (`None`) by default. Each modifies the Coulomb level `Fc`, the static level `Fs`, the
+//! viscous law or adds a force, as its equation says:
+//!
+//! | effect | equation |
+//! | --- | --- |
+//! | `asymmetry` | `Fc, Fs -> (1 ± rc) Fc, (1 ± rc) Fs`, `sigma2 -> (1 ± rv) sigma2`, `+` for v >= 0 |
+//! | `offset` | `F += F0` (constant external force, e.g. gravity on an inclined axis) |
+//! | `load_dependence` | `Fc, Fs += k (p_a + p_b - p_ref)` (seal preload + pressure-energised seal) |
+//! | `position_dependence` | `Fc, Fs += k_x (x - x_c)` (friction varying along the stroke) |
+//! | `temperature_dependence` | `sigma2 -> sigma2 exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs` |
+//! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
+//! | `viscous_power` | `F_visc = sigma2 v_r sign(v) |v / v_r|^delta` (equals `sigma2 v` at `v = v_r`) |
+//! | `dwell_stiction` | `Fs += dF (1 - exp(-t_dwell / tau))`, `t_dwell` = time stuck before departure |
+
+use num_traits::Float;
+
+/// Direction-dependent friction levels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Asymmetry<T> {
+    /// `rc`: relative Coulomb/static level change, `+rc` moving in +x, `-rc` in -x [-].
+    pub coulomb_ratio: T,
+    /// `rv`: relative viscous change, `+rv` moving in +x, `-rv` in -x [-].
+    pub viscous_ratio: T,
+}
+
+/// A constant external force.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Offset<T> {
+    /// `F0` [N], resisting +x motion when positive.
+    pub force: T,
+}
+
+/// Seal friction that grows with chamber pressure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoadDependence<T> {
+    /// `k` [N/Pa].
+    pub coefficient: T,
+    /// `p_ref` [Pa]: the pressure sum at which the base Fc, Fs hold.
+    pub reference_pressure_sum: T,
+}
+
+/// Friction that varies along the stroke.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PositionDependence<T> {
+    /// `k_x` [N/m].
+    pub gradient: T,
+    /// `x_c` [m]: the position at which the base Fc, Fs hold.
+    pub center: T,
+}
+
+/// Friction that changes with oil temperature.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TemperatureDependence<T> {
+    /// `k_v` [1/K]: viscous friction falls as the oil thins.
+    pub viscous_per_kelvin: T,
+    /// `k_c` [1/K]: Coulomb level change per kelvin.
+    pub coulomb_per_kelvin: T,
+    /// `T_ref` [degC]: the temperature at which the base parameters hold.
+    pub reference_temperature: T,
+}
+
+/// Stribeck exponent other than 2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StribeckShape<T> {
+    /// `delta` [-], > 0.
+    pub exponent: T,
+}
+
+/// Viscous force proportional to `|v|^delta`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViscousPower<T> {
+    /// `delta` [-], > 0.
+    pub exponent: T,
+    /// `v_r` [m/s] > 0: the velocity at which the power law equals `sigma2 v`.
+    pub reference_velocity: T,
+}
+
+/// Breakaway force that grows with time at rest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DwellStiction<T> {
+    /// `dF` [N]: the increase of Fs after a long dwell.
+    pub max_increase: T,
+    /// `tau` [s] > 0.
+    pub time_constant: T,
+    /// Below this speed [m/s] the axis counts as stuck and the dwell timer runs.
+    pub stick_velocity: T,
+}
+
+/// The set of extra effects a model carries (all `None`: plain LuGre).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Effects<T> {
+    /// See [`Asymmetry`].
+    pub asymmetry: Option<Asymmetry<T>>,
+    /// See [`Offset`].
+    pub offset: Option<Offset<T>>,
+    /// See [`LoadDependence`].
+    pub load_dependence: Option<LoadDependence<T>>,
+    /// See [`PositionDependence`].
+    pub position_dependence: Option<PositionDependence<T>>,
+    /// See [`TemperatureDependence`].
+    pub temperature_dependence: Option<TemperatureDependence<T>>,
+    /// See [`StribeckShape`].
+    pub stribeck_shape: Option<StribeckShape<T>>,
+    /// See [`ViscousPower`].
+    pub viscous_power: Option<ViscousPower<T>>,
+    /// See [`DwellStiction`].
+    pub dwell_stiction: Option<DwellStiction<T>>,
+}
+
+/// The names of the effects, as the simulator switches, the diagnosis and the files spell them.
+pub const EFFECT_NAMES: [&str; 8] = [
+    "asymmetry",
+    "offset",
+    "load_dependence",
+    "position_dependence",
+    "temperature_dependence",
+    "stribeck_shape",
+    "viscous_power",
+    "dwell_stiction",
+];
+
+/// Operating conditions some effects depend on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Conditions<T> {
+    /// Piston position x [m].
+    pub position: T,
+    /// Chamber pressure sum `p_a + p_b` [Pa].
+    pub pressure_sum: T,
+    /// Oil temperature [degC].
+    pub temperature: T,
+}
+
+impl<T: Float> Effects<T> {
+    /// True when no effect is switched on.
+    pub fn is_plain(&self) -> bool {
+        *self == Self::none()
+    }
+
+    /// No effect switched on.
+    pub const fn none() -> Self {
+        Self {
+            asymmetry: None,
+            offset: None,
+            load_dependence: None,
+            position_dependence: None,
+            temperature_dependence: None,
+            stribeck_shape: None,
+            viscous_power: None,
+            dwell_stiction: None,
+        }
+    }
+
+    /// Conditions at which every effect is neutral (reference pressure, centre, reference
+    /// temperature): a model fed these behaves like its base parameters.
+    pub fn reference_conditions(&self) -> Conditions<T> {
+        Conditions {
+            position: self.position_dependence.map_or(T::zero(), |p| p.center),
+            pressure_sum: self
+                .load_dependence
+                .map_or(T::zero(), |l| l.reference_pressure_sum),
+            temperature: self
+                .temperature_dependence
+                .map_or(T::zero(), |t| t.reference_temperature),
+        }
+    }
+}

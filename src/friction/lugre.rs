@@ -1,0 +1,87 @@
+//! The LuGre state and its exact zero-order-hold step.
+//!
+//! With the velocity `v` held over a step of length `h`, the bristle equation
+//! `dz/dt = v - a z` with `a = sigma0 |v| / g(v)` is linear with constant coefficients, and has
+//! the exact solution
+//!
+//! ```text
+//! z(h)     = z0 e^{-a h} + v h phi(a h),     phi(x) = (1 - e^{-x}) / x  (phi(0) = 1)
+//! dz/dt(h) = (v - a z0) e^{-a h}
+//! ```
+//!
+//! It is unconditionally stable (`e^{-a h}` is in (0, 1] for every step and velocity) and exact
+//! for piecewise-constant velocity, so the only discretisation error is the one of holding `v`.
+//! Explicit Euler, `z + h (v - a z)`, diverges once `a h > 2`, i.e. for Table 2 at 1 ms once
+//! `|v| > 2 g / (sigma0 h) ~ 0.26 mm/s`. `phi` is evaluated with `expm1` so it keeps full
+//! precision when `a h` is tiny (sticking, reversals).
+//!
+//! **Which velocity to hold.** Pass the *mean* velocity over the step, i.e. the displacement
+//! divided by `dt` (what encoder differences give). In pre-sliding the force is
+//! `sigma0 * displacement`, so holding the end-of-step velocity instead misstates the
+//! displacement by `a_x h^2 / 2` and, with sigma0 = 3.9e9 N/m, costs ~245 N at the reversals of
+//! a 10 mm, 0.5 Hz sinusoid. With the mean velocity the error against a fine-step RK4
+//! reference is 2.4 N there, 0.5 N on a velocity ramp through the Stribeck region and 0.16 N on
+//! slow reversals (test `lugre_numerics`).
+
+use num_traits::Float;
+
+/// Result of one exact step of the bristle equation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BristleStep<T> {
+    /// Deflection at the end of the step, z [m].
+    pub deflection: T,
+    /// Deflection rate at the end of the step, dz/dt [m/s].
+    pub deflection_rate: T,
+}
+
+/// Exact zero-order-hold step of `dz/dt = v - sigma0 |v| z / g` over `dt` seconds.
+///
+/// `g` is the Stribeck level [N] (clamped to a tiny positive value), `sigma0` [N/m].
+pub fn bristle_step<T: Float>(z: T, velocity: T, sigma0: T, g: T, dt: T) -> BristleStep<T> {
+    let g = g.max(T::min_positive_value());
+    let rate = sigma0 * velocity.abs() / g; // a [1/s]
+    let x = rate * dt;
+    let decay = (-x).exp();
+    // phi(x) = -expm1(-x)/x, continuous at 0
+    let phi = if x > T::epsilon() {
+        -(-x).exp_m1() / x
+    } else {
+        T::one() - x / (T::one() + T::one())
+    };
+    BristleStep {
+        deflection: z * decay + velocity * dt * phi,
+        deflection_rate: (velocity - rate * z) * decay,
+    }
+}
+
+/// Bristle state of a plain LuGre model (see [`crate::friction::FrictionModel`] for the model
+/// with extra effects).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LugreState<T> {
+    /// Average bristle deflection z [m].
+    pub z: T,
+}
+
+impl<T: Float> LugreState<T> {
+    /// A relaxed state (z = 0).
+    pub fn new() -> Self {
+        Self { z: T::zero() }
+    }
+
+    /// Advances by `dt` [s] with `velocity` [m/s] held, returns the friction force [N] at the
+    /// end of the step: `sigma0 z + sigma1 dz/dt + sigma2 v`.
+    pub fn step(&mut self, params: &super::LugreParams<T>, velocity: T, dt: T) -> T {
+        let s = bristle_step(
+            self.z,
+            velocity,
+            params.bristle_stiffness(),
+            params.stribeck_curve(velocity),
+            dt,
+        );
+        self.z = s.deflection;
+        params.bristle_stiffness() * s.deflection
+            + params.bristle_damping() * s.deflection_rate
+            + params.viscous_coefficient() * velocity
+    }
+}

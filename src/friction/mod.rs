@@ -1,0 +1,12 @@
+//! Friction physics: validated parameters, the LuGre model with its exact discretisation, and
+//! the extra physical effects.
+
+pub mod effects;
+pub mod lugre;
+pub mod model;
+pub mod params;
+
+pub use effects::{Conditions, Effects, EFFECT_NAMES};
+pub use lugre::{bristle_step, BristleStep, LugreState};
+pub use model::{FrictionModel, FrictionState, Levels};
+pub use params::{LugreParams, ParamError, ParamErrorKind, ParamField, ParamWarning};
