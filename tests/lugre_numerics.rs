@@ -28,7 +28,9 @@ fn reference(p: &LugreParams<f64>, vel: &dyn Fn(f64) -> f64, t_end: f64) -> Vec<
             t += h;
         }
         let v = vel(t);
-        out.push(p.bristle_stiffness() * z + p.bristle_damping() * f(t, z) + p.viscous_coefficient() * v);
+        out.push(
+            p.bristle_stiffness() * z + p.bristle_damping() * f(t, z) + p.viscous_coefficient() * v,
+        );
     }
     out
 }
@@ -65,7 +67,10 @@ fn stepped_end_velocity(p: &LugreParams<f64>, vel: &dyn Fn(f64) -> f64, t_end: f
 fn max_err(p: &LugreParams<f64>, vel: &dyn Fn(f64) -> f64, t_end: f64) -> f64 {
     let r = reference(p, vel, t_end);
     let s = stepped(p, vel, t_end);
-    r.iter().zip(&s).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
+    r.iter()
+        .zip(&s)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -88,7 +93,10 @@ fn matches_fine_reference_on_sinusoid_ramp_and_reversal() {
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max);
     println!("sinusoid driven by the end-of-step velocity instead: {e_end:.1} N");
-    assert!(e_end > 10.0 * e_sine, "the mean-velocity input should matter");
+    assert!(
+        e_end > 10.0 * e_sine,
+        "the mean-velocity input should matter"
+    );
     println!(
         "max |F - F_ref|: sinusoid {e_sine:.3} N, ramp {e_ramp:.3} N, reversal {e_rev:.3} N (Fs = {fs} N)"
     );
@@ -113,7 +121,10 @@ fn steady_state_equals_fss_within_0p1_percent() {
                 f = s.step(&p, v, DT);
             }
             let fss = p.steady_state_force(v);
-            assert!(((f - fss) / fss).abs() < 1e-3, "v = {v}: F = {f}, Fss = {fss}");
+            assert!(
+                ((f - fss) / fss).abs() < 1e-3,
+                "v = {v}: F = {f}, Fss = {fss}"
+            );
         }
     }
 }
@@ -132,7 +143,11 @@ fn presliding_stiffness_equals_sigma0() {
     let dx = 10.0 * v * DT;
     let k = (f - (p.bristle_damping() + p.viscous_coefficient()) * v) / dx;
     let rel = (k - p.bristle_stiffness()).abs() / p.bristle_stiffness();
-    assert!(rel < 0.01, "stiffness {k:.4e} vs sigma0 {:.4e}", p.bristle_stiffness());
+    assert!(
+        rel < 0.01,
+        "stiffness {k:.4e} vs sigma0 {:.4e}",
+        p.bristle_stiffness()
+    );
 }
 
 #[test]
@@ -146,7 +161,10 @@ fn explicit_euler_diverges_where_the_exact_step_does_not() {
         z_euler += DT * (v - p.bristle_stiffness() * v.abs() * z_euler / g);
         s.step(&p, v, DT);
     }
-    assert!(!z_euler.is_finite() || z_euler.abs() > 1.0, "Euler z = {z_euler}");
+    assert!(
+        !z_euler.is_finite() || z_euler.abs() > 1.0,
+        "Euler z = {z_euler}"
+    );
     assert!(s.z.abs() <= p.static_force() / p.bristle_stiffness());
 }
 
@@ -158,7 +176,8 @@ fn f32_tracks_f64_within_bound() {
     let mut worst = 0.0f64;
     for k in 0..20_000 {
         let t = k as f64 * DT;
-        let v = 0.02 * (2.0 * std::f64::consts::PI * 0.3 * t).sin() + 0.003 * (2.0 * std::f64::consts::PI * 2.1 * t).sin();
+        let v = 0.02 * (2.0 * std::f64::consts::PI * 0.3 * t).sin()
+            + 0.003 * (2.0 * std::f64::consts::PI * 2.1 * t).sin();
         let f64_ = s64.step(&p64, v, DT);
         let f32_ = s32.step(&p32, v as f32, 1e-3f32);
         worst = worst.max((f64_ - f32_ as f64).abs());

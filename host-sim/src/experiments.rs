@@ -146,7 +146,11 @@ pub fn log_speeds(v_min: f64, v_max: f64, n: usize) -> Vec<f64> {
 /// `-v`; the friction in the last 60 % of each constant-velocity leg is averaged (force minus
 /// `M` times the mean acceleration over the window). Returns the record and the curve
 /// (both directions, in run order).
-pub fn velocity_sweep(config: &PlantConfig, sensors: SensorConfig, speeds: &[f64]) -> (Record, Vec<SteadyPoint>) {
+pub fn velocity_sweep(
+    config: &PlantConfig,
+    sensors: SensorConfig,
+    speeds: &[f64],
+) -> (Record, Vec<SteadyPoint>) {
     let x0 = 0.05;
     let mass = config.cylinder.moving_mass_kg;
     let mut rig = Rig::new(config.clone(), sensors, x0);
@@ -160,7 +164,10 @@ pub fn velocity_sweep(config: &PlantConfig, sensors: SensorConfig, speeds: &[f64
             let n = ((leg + settle) / PERIOD_S).round() as usize;
             for _ in 0..n {
                 x_ref += dir * v * PERIOD_S;
-                rig.tick(Setpoint::Position { x: x_ref, v: dir * v });
+                rig.tick(Setpoint::Position {
+                    x: x_ref,
+                    v: dir * v,
+                });
             }
             let end = rig.rec.len();
             let w0 = start + ((settle + 0.4 * leg) / PERIOD_S) as usize;
@@ -187,7 +194,11 @@ pub fn steady_point(r: &Record, i0: usize, i1: usize, mass: f64) -> SteadyPoint 
     let v_end = (r.x[i1 - 1] - r.x[i1 - 1 - k]) / (r.t[i1 - 1] - r.t[i1 - 1 - k]);
     let mean_acc = (v_end - v_start) / dt;
     let mean_f = r.force[i0..i1].iter().sum::<f64>() / n;
-    let var = r.force[i0..i1].iter().map(|f| (f - mean_f).powi(2)).sum::<f64>() / n;
+    let var = r.force[i0..i1]
+        .iter()
+        .map(|f| (f - mean_f).powi(2))
+        .sum::<f64>()
+        / n;
     SteadyPoint {
         velocity,
         force: mean_f - mass * mean_acc,
@@ -197,7 +208,12 @@ pub fn steady_point(r: &Record, i0: usize, i1: usize, mass: f64) -> SteadyPoint 
 
 /// Slow force ramp below breakaway (pre-sliding): force-controlled, `0 -> +frac Fs -> -frac Fs
 /// -> 0` over `duration` seconds. The displacement stays in the sub-micrometre bristle range.
-pub fn presliding_ramp(config: &PlantConfig, sensors: SensorConfig, fraction_of_fs: f64, duration: f64) -> Record {
+pub fn presliding_ramp(
+    config: &PlantConfig,
+    sensors: SensorConfig,
+    fraction_of_fs: f64,
+    duration: f64,
+) -> Record {
     let peak = fraction_of_fs * config.friction.params.static_force();
     let mut rig = Rig::new(config.clone(), sensors, 0.25);
     let n = (duration / PERIOD_S).round() as usize;
@@ -216,7 +232,13 @@ pub fn presliding_ramp(config: &PlantConfig, sensors: SensorConfig, fraction_of_
 }
 
 /// Sinusoidal position trajectory `x = x0 + A sin(2 pi f t)`.
-pub fn sinusoid(config: &PlantConfig, sensors: SensorConfig, amplitude: f64, freq_hz: f64, duration: f64) -> Record {
+pub fn sinusoid(
+    config: &PlantConfig,
+    sensors: SensorConfig,
+    amplitude: f64,
+    freq_hz: f64,
+    duration: f64,
+) -> Record {
     let x0 = 0.25;
     let mut rig = Rig::new(config.clone(), sensors, x0);
     let w = 2.0 * std::f64::consts::PI * freq_hz;
@@ -234,7 +256,13 @@ pub fn sinusoid(config: &PlantConfig, sensors: SensorConfig, amplitude: f64, fre
 /// Trapezoidal velocity profile between `x0` and `x0 + distance`, with dwells at both ends.
 /// Returns (position, velocity) at time `t` within one period
 /// `2 * (move + dwell)` with `move = distance / v_max + v_max / accel`.
-pub fn trapezoid_reference(t: f64, distance: f64, v_max: f64, accel: f64, dwell: f64) -> (f64, f64) {
+pub fn trapezoid_reference(
+    t: f64,
+    distance: f64,
+    v_max: f64,
+    accel: f64,
+    dwell: f64,
+) -> (f64, f64) {
     let t_acc = v_max / accel;
     let d_acc = 0.5 * accel * t_acc * t_acc;
     let (t_acc, v_peak, t_flat) = if 2.0 * d_acc >= distance {

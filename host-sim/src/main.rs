@@ -10,7 +10,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "host-sim", version, about = "Electro-hydraulic servo axis simulator and LuGre friction tools")]
+#[command(
+    name = "host-sim",
+    version,
+    about = "Electro-hydraulic servo axis simulator and LuGre friction tools"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -84,13 +88,24 @@ fn switch_effect(cfg: &mut PlantConfig, name: &str) -> Result<(), String> {
     let e = &mut cfg.friction.effects;
     let p_sum = cfg.valve.supply_pressure_pa;
     match name {
-        "asymmetry" => e.asymmetry = Some(fx::Asymmetry { coulomb_ratio: 0.15, viscous_ratio: 0.25 }),
+        "asymmetry" => {
+            e.asymmetry = Some(fx::Asymmetry {
+                coulomb_ratio: 0.15,
+                viscous_ratio: 0.25,
+            })
+        }
         "offset" => e.offset = Some(fx::Offset { force: 150.0 }),
         "load_dependence" => {
-            e.load_dependence = Some(fx::LoadDependence { coefficient: 1.5e-5, reference_pressure_sum: p_sum })
+            e.load_dependence = Some(fx::LoadDependence {
+                coefficient: 1.5e-5,
+                reference_pressure_sum: p_sum,
+            })
         }
         "position_dependence" => {
-            e.position_dependence = Some(fx::PositionDependence { gradient: 800.0, center: 0.25 })
+            e.position_dependence = Some(fx::PositionDependence {
+                gradient: 800.0,
+                center: 0.25,
+            })
         }
         "temperature_dependence" => {
             e.temperature_dependence = Some(fx::TemperatureDependence {
@@ -102,10 +117,17 @@ fn switch_effect(cfg: &mut PlantConfig, name: &str) -> Result<(), String> {
         }
         "stribeck_shape" => e.stribeck_shape = Some(fx::StribeckShape { exponent: 0.8 }),
         "viscous_power" => {
-            e.viscous_power = Some(fx::ViscousPower { exponent: 0.6, reference_velocity: 0.02 })
+            e.viscous_power = Some(fx::ViscousPower {
+                exponent: 0.6,
+                reference_velocity: 0.02,
+            })
         }
         "dwell_stiction" => {
-            e.dwell_stiction = Some(fx::DwellStiction { max_increase: 250.0, time_constant: 0.5, stick_velocity: 2e-4 })
+            e.dwell_stiction = Some(fx::DwellStiction {
+                max_increase: 250.0,
+                time_constant: 0.5,
+                stick_velocity: 2e-4,
+            })
         }
         other => {
             return Err(format!(
@@ -121,9 +143,22 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo { out } => demo(&out),
-        Command::Simulate { experiment, out, params, effect, noise, seed, duration } => {
-            simulate(experiment, &out, params.as_deref(), &effect, sensors(noise, seed), duration)
-        }
+        Command::Simulate {
+            experiment,
+            out,
+            params,
+            effect,
+            noise,
+            seed,
+            duration,
+        } => simulate(
+            experiment,
+            &out,
+            params.as_deref(),
+            &effect,
+            sensors(noise, seed),
+            duration,
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -155,24 +190,37 @@ fn simulate(
         return Err("--duration must be a positive number of seconds".into());
     }
     let rec = run_experiment(experiment, &cfg, sensors, duration);
-    rec.write(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    rec.write(out)
+        .map_err(|e| format!("{}: {e}", out.display()))?;
     println!("wrote {} ({} samples)", out.display(), rec.len());
     Ok(())
 }
 
-fn run_experiment(experiment: Experiment, cfg: &PlantConfig, sensors: SensorConfig, duration: f64) -> Record {
+fn run_experiment(
+    experiment: Experiment,
+    cfg: &PlantConfig,
+    sensors: SensorConfig,
+    duration: f64,
+) -> Record {
     match experiment {
-        Experiment::Sweep => experiments::velocity_sweep(cfg, sensors, &experiments::log_speeds(5e-4, 0.1, 12)).0,
+        Experiment::Sweep => {
+            experiments::velocity_sweep(cfg, sensors, &experiments::log_speeds(5e-4, 0.1, 12)).0
+        }
         Experiment::Ramp => experiments::presliding_ramp(cfg, sensors, 0.7, duration),
         Experiment::Sine => experiments::sinusoid(cfg, sensors, 0.01, 0.25, duration),
-        Experiment::Trapezoid => experiments::trapezoid(cfg, sensors, 0.05, 0.05, 0.5, 0.5, duration),
+        Experiment::Trapezoid => {
+            experiments::trapezoid(cfg, sensors, 0.05, 0.05, 0.5, 0.5, duration)
+        }
     }
 }
 
 fn print_curve(points: &[SteadyPoint], cfg: &PlantConfig) {
     let model = &cfg.friction;
     let c = model.effects.reference_conditions();
-    println!("  {:>11}  {:>11}  {:>11}  {:>8}", "v [mm/s]", "F meas [N]", "Fss(v) [N]", "err [%]");
+    println!(
+        "  {:>11}  {:>11}  {:>11}  {:>8}",
+        "v [mm/s]", "F meas [N]", "Fss(v) [N]", "err [%]"
+    );
     for p in points {
         let truth = model.steady_state_force(p.velocity, &c);
         println!(
@@ -212,7 +260,8 @@ fn demo(out: &Path) -> Result<(), String> {
     );
     let sensors = SensorConfig::realistic(1);
     let wall = std::time::Instant::now();
-    let (sweep, points) = experiments::velocity_sweep(&cfg, sensors, &experiments::log_speeds(5e-4, 0.1, 12));
+    let (sweep, points) =
+        experiments::velocity_sweep(&cfg, sensors, &experiments::log_speeds(5e-4, 0.1, 12));
     let sweep_s = sweep.t.last().copied().unwrap_or(0.0);
     println!("\n== 2. Steady-state friction curve (constant-velocity sweep, realistic sensors) ==");
     print_curve(&points, &cfg);
@@ -221,17 +270,29 @@ fn demo(out: &Path) -> Result<(), String> {
     let trap = experiments::trapezoid(&cfg, sensors, 0.05, 0.05, 0.5, 0.5, 20.0);
     let sim_s = sweep_s + 8.0 + 20.0 + 20.0;
     let wall_s = wall.elapsed().as_secs_f64();
-    for (name, rec) in [("sweep", &sweep), ("ramp", &ramp), ("sine", &sine), ("trapezoid", &trap)] {
+    for (name, rec) in [
+        ("sweep", &sweep),
+        ("ramp", &ramp),
+        ("sine", &sine),
+        ("trapezoid", &trap),
+    ] {
         let path = out.join(format!("{name}.csv"));
-        rec.write(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        rec.write(&path)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         println!("  wrote {}", path.display());
     }
-    let x_pre = ramp.x.iter().fold(0.0f64, |m, &x| m.max((x - ramp.x[0]).abs()));
+    let x_pre = ramp
+        .x
+        .iter()
+        .fold(0.0f64, |m, &x| m.max((x - ramp.x[0]).abs()));
     println!(
         "  pre-sliding ramp to 0.7 Fs: peak displacement {:.3} um (sigma0 predicts {:.3} um; encoder 0.1 um)",
         x_pre * 1e6,
         0.7 * p.static_force() / p.bristle_stiffness() * 1e6
     );
-    println!("  simulated {sim_s:.1} s in {wall_s:.2} s wall ({:.0}x real time)", sim_s / wall_s);
+    println!(
+        "  simulated {sim_s:.1} s in {wall_s:.2} s wall ({:.0}x real time)",
+        sim_s / wall_s
+    );
     Ok(())
 }

@@ -196,7 +196,9 @@ impl ParamFile {
                     coulomb_per_kelvin: t.coulomb_per_kelvin,
                     reference_temperature_c: t.reference_temperature,
                 }),
-                stribeck_shape: e.stribeck_shape.map(|s| ShapeT { exponent: s.exponent }),
+                stribeck_shape: e.stribeck_shape.map(|s| ShapeT {
+                    exponent: s.exponent,
+                }),
                 viscous_power: e.viscous_power.map(|v| PowerT {
                     exponent: v.exponent,
                     reference_velocity_m_per_s: v.reference_velocity,
@@ -257,7 +259,10 @@ impl ParamFile {
             effects.offset = Some(fx::Offset { force: o.force_n });
         }
         if let Some(l) = e.load_dependence {
-            finite("load_dependence", &[l.coefficient_n_per_pa, l.reference_pressure_sum_pa])?;
+            finite(
+                "load_dependence",
+                &[l.coefficient_n_per_pa, l.reference_pressure_sum_pa],
+            )?;
             effects.load_dependence = Some(fx::LoadDependence {
                 coefficient: l.coefficient_n_per_pa,
                 reference_pressure_sum: l.reference_pressure_sum_pa,
@@ -273,7 +278,11 @@ impl ParamFile {
         if let Some(t) = e.temperature_dependence {
             finite(
                 "temperature_dependence",
-                &[t.viscous_per_kelvin, t.coulomb_per_kelvin, t.reference_temperature_c],
+                &[
+                    t.viscous_per_kelvin,
+                    t.coulomb_per_kelvin,
+                    t.reference_temperature_c,
+                ],
             )?;
             effects.temperature_dependence = Some(fx::TemperatureDependence {
                 viscous_per_kelvin: t.viscous_per_kelvin,
@@ -284,12 +293,18 @@ impl ParamFile {
         if let Some(s) = e.stribeck_shape {
             finite("stribeck_shape", &[s.exponent])?;
             positive("stribeck_shape", "exponent", s.exponent)?;
-            effects.stribeck_shape = Some(fx::StribeckShape { exponent: s.exponent });
+            effects.stribeck_shape = Some(fx::StribeckShape {
+                exponent: s.exponent,
+            });
         }
         if let Some(v) = e.viscous_power {
             finite("viscous_power", &[v.exponent, v.reference_velocity_m_per_s])?;
             positive("viscous_power", "exponent", v.exponent)?;
-            positive("viscous_power", "reference_velocity_m_per_s", v.reference_velocity_m_per_s)?;
+            positive(
+                "viscous_power",
+                "reference_velocity_m_per_s",
+                v.reference_velocity_m_per_s,
+            )?;
             effects.viscous_power = Some(fx::ViscousPower {
                 exponent: v.exponent,
                 reference_velocity: v.reference_velocity_m_per_s,
@@ -298,10 +313,18 @@ impl ParamFile {
         if let Some(d) = e.dwell_stiction {
             finite(
                 "dwell_stiction",
-                &[d.max_increase_n, d.time_constant_s, d.stick_velocity_m_per_s],
+                &[
+                    d.max_increase_n,
+                    d.time_constant_s,
+                    d.stick_velocity_m_per_s,
+                ],
             )?;
             positive("dwell_stiction", "time_constant_s", d.time_constant_s)?;
-            positive("dwell_stiction", "stick_velocity_m_per_s", d.stick_velocity_m_per_s)?;
+            positive(
+                "dwell_stiction",
+                "stick_velocity_m_per_s",
+                d.stick_velocity_m_per_s,
+            )?;
             effects.dwell_stiction = Some(fx::DwellStiction {
                 max_increase: d.max_increase_n,
                 time_constant: d.time_constant_s,
@@ -314,7 +337,8 @@ impl ParamFile {
     /// Reads, parses and validates a parameter file; errors name the file (and line/column for
     /// syntax errors, the field for invalid values).
     pub fn read(path: &Path) -> Result<(Self, FrictionModel<f64>), String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
         let file: ParamFile = toml::from_str(&text).map_err(|e| {
             let at = e
                 .span()
@@ -327,7 +351,9 @@ impl ParamFile {
                 .unwrap_or_default();
             format!("{}{at}: {}", path.display(), e.message())
         })?;
-        let model = file.model().map_err(|e| format!("{}: {e}", path.display()))?;
+        let model = file
+            .model()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         Ok((file, model))
     }
 

@@ -97,12 +97,18 @@ impl Record {
 
     /// A metadata value.
     pub fn meta_value(&self, key: &str) -> Option<&str> {
-        self.meta.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
+        self.meta
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
     }
 
     /// An extra column by name.
     pub fn extra(&self, name: &str) -> Option<&[f64]> {
-        self.extra.iter().find(|(k, _)| k == name).map(|(_, v)| v.as_slice())
+        self.extra
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.as_slice())
     }
 
     /// Reads and validates a record file.
@@ -118,12 +124,13 @@ impl Record {
 
     /// Parses and validates record text (`path` is only used in errors).
     pub fn parse(text: &str, path: &Path) -> Result<Self, RecordError> {
-        let err = |line: Option<u64>, column: Option<(usize, String)>, message: String| RecordError {
-            path: path.to_path_buf(),
-            line,
-            column,
-            message,
-        };
+        let err =
+            |line: Option<u64>, column: Option<(usize, String)>, message: String| RecordError {
+                path: path.to_path_buf(),
+                line,
+                column,
+                message,
+            };
         let mut meta = Vec::new();
         for l in text.lines() {
             let l = l.trim();
@@ -213,10 +220,17 @@ impl Record {
             }
         }
         if cols[t_idx].is_empty() {
-            return Err(err(Some(header_line), None, "no data rows after the header".into()));
+            return Err(err(
+                Some(header_line),
+                None,
+                "no data rows after the header".into(),
+            ));
         }
         let take = |name: &str, cols: &mut Vec<Vec<f64>>| -> Option<Vec<f64>> {
-            names.iter().position(|n| n == name).map(|i| std::mem::take(&mut cols[i]))
+            names
+                .iter()
+                .position(|n| n == name)
+                .map(|i| std::mem::take(&mut cols[i]))
         };
         let mut rec = Record {
             meta,
@@ -240,7 +254,8 @@ impl Record {
 
     /// The columns present, as (name, values), in canonical order, extras last.
     fn columns(&self) -> Vec<(&str, &[f64])> {
-        let mut c: Vec<(&str, &[f64])> = vec![("t", &self.t), ("x", &self.x), ("force", &self.force)];
+        let mut c: Vec<(&str, &[f64])> =
+            vec![("t", &self.t), ("x", &self.x), ("force", &self.force)];
         for (name, col) in [
             ("v", &self.v),
             ("x_ref", &self.x_ref),
@@ -270,7 +285,10 @@ impl Record {
         let mut row = Vec::with_capacity(cols.len());
         for i in 0..self.len() {
             row.clear();
-            row.extend(cols.iter().map(|(_, c)| c.get(i).copied().unwrap_or(f64::NAN).to_string()));
+            row.extend(
+                cols.iter()
+                    .map(|(_, c)| c.get(i).copied().unwrap_or(f64::NAN).to_string()),
+            );
             out.write_record(&row)?;
         }
         out.flush()
@@ -289,7 +307,9 @@ fn csv_line(e: &csv::Error) -> Option<u64> {
 
 fn csv_message(e: &csv::Error) -> String {
     match e.kind() {
-        csv::ErrorKind::UnequalLengths { expected_len, len, .. } => {
+        csv::ErrorKind::UnequalLengths {
+            expected_len, len, ..
+        } => {
             format!("row has {len} fields, the header has {expected_len}")
         }
         _ => e.to_string(),

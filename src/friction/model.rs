@@ -52,7 +52,11 @@ impl<T: Float> FrictionModel<T> {
         let mut static_ = p.static_force();
         let mut viscous = p.viscous_coefficient();
         if let Some(a) = e.asymmetry {
-            let s = if velocity >= T::zero() { T::one() } else { -T::one() };
+            let s = if velocity >= T::zero() {
+                T::one()
+            } else {
+                -T::one()
+            };
             coulomb = coulomb * (T::one() + s * a.coulomb_ratio);
             static_ = static_ * (T::one() + s * a.coulomb_ratio);
             viscous = viscous * (T::one() + s * a.viscous_ratio);
@@ -129,7 +133,9 @@ impl<T: Float> FrictionModel<T> {
         } else {
             T::zero()
         };
-        self.stribeck_curve(velocity, &l) * dir + self.viscous_force(velocity, &l) + self.offset_force()
+        self.stribeck_curve(velocity, &l) * dir
+            + self.viscous_force(velocity, &l)
+            + self.offset_force()
     }
 
     /// Advances the state by `dt` [s] with `velocity` [m/s] held (exact zero-order hold of the
@@ -156,5 +162,171 @@ impl<T: Float> FrictionModel<T> {
             + self.params.bristle_damping() * b.deflection_rate
             + self.viscous_force(velocity, &l)
             + self.offset_force()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::friction::effects::*;
+
+    const REF: Conditions<f64> = Conditions {
+        position: 0.0,
+        pressure_sum: 0.0,
+        temperature: 0.0,
+    };
+
+    fn base() -> FrictionModel<f64> {
+        FrictionModel::plain(LugreParams::table2())
+    }
+
+    fn fss(m: &FrictionModel<f64>, v: f64, c: &Conditions<f64>) -> f64 {
+        m.steady_state_force(v, c)
+    }
+
+    #[test]
+    fn plain_model_matches_the_lugre_curve() {
+        let m = base();
+        for v in [-0.05, -0.003, 0.001, 0.02] {
+            assert_eq!(fss(&m, v, &REF), m.params.steady_state_force(v));
+        }
+    }
+
+    #[test]
+    fn asymmetry_scales_levels_per_direction() {
+        let mut m = base();
+        m.effects.asymmetry = Some(Asymmetry {
+            coulomb_ratio: 0.1,
+            viscous_ratio: 0.2,
+        });
+        let v = 0.05; // far past vs: g = Fc
+        let p = m.params;
+        let up = p.coulomb_force() * 1.1 + p.viscous_coefficient() * 1.2 * v;
+        let down = -(p.coulomb_force() * 0.9 + p.viscous_coefficient() * 0.8 * v);
+        assert!((fss(&m, v, &REF) - up).abs() < 1e-9);
+        assert!((fss(&m, -v, &REF) - down).abs() < 1e-9);
+    }
+
+    #[test]
+    fn offset_adds_a_constant_force_even_at_rest() {
+        let mut m = base();
+        m.effects.offset = Some(Offset { force: 42.0 });
+        let mut s = FrictionState::default();
+        assert_eq!(m.step(&mut s, 0.0, &REF, 1e-3), 42.0);
+        assert!((fss(&m, 0.01, &REF) - base().steady_state_force(0.01, &REF) - 42.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn load_dependence_shifts_coulomb_and_static_with_pressure() {
+        let mut m = base();
+        m.effects.load_dependence = Some(LoadDependence {
+            coefficient: 2e-5,
+            reference_pressure_sum: 100e5,
+        });
+        let c = Conditions {
+            pressure_sum: 150e5,
+            ..REF
+        };
+        let l = m.levels(0.01, &c, 0.0);
+        assert!((l.coulomb - (506.0 + 2e-5 * 50e5)).abs() < 1e-9);
+        assert!((l.static_ - (632.0 + 100.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn position_dependence_is_linear_along_the_stroke() {
+        let mut m = base();
+        m.effects.position_dependence = Some(PositionDependence {
+            gradient: 1000.0,
+            center: 0.2,
+        });
+        let at = |x| {
+            m.levels(0.01, &Conditions { position: x, ..REF }, 0.0)
+                .coulomb
+        };
+        assert!((at(0.3) - 606.0).abs() < 1e-9);
+        assert!((at(0.1) - 406.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn temperature_thins_viscous_and_raises_coulomb() {
+        let mut m = base();
+        m.effects.temperature_dependence = Some(TemperatureDependence {
+            viscous_per_kelvin: 0.02,
+            coulomb_per_kelvin: 0.01,
+            reference_temperature: 40.0,
+        });
+        let l = m.levels(
+            0.01,
+            &Conditions {
+                temperature: 60.0,
+                ..REF
+            },
+            0.0,
+        );
+        assert!((l.viscous - 48_900.0 * (-0.4f64).exp()).abs() < 1e-6);
+        assert!((l.coulomb - 506.0 * 1.2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn stribeck_shape_changes_the_decay_exponent() {
+        let mut m = base();
+        m.effects.stribeck_shape = Some(StribeckShape { exponent: 1.0 });
+        let l = m.levels(0.01, &REF, 0.0);
+        let g = m.stribeck_curve(0.01, &l);
+        assert!((g - (506.0 + 126.0 * (-2.0f64).exp())).abs() < 1e-9);
+    }
+
+    #[test]
+    fn viscous_power_follows_the_power_law() {
+        let mut m = base();
+        m.effects.viscous_power = Some(ViscousPower {
+            exponent: 0.5,
+            reference_velocity: 0.01,
+        });
+        let l = m.levels(0.04, &REF, 0.0);
+        // sigma2 * v_r * (v / v_r)^0.5 = 48900 * 0.01 * 2
+        assert!((m.viscous_force(0.04, &l) - 978.0).abs() < 1e-9);
+        assert!((m.viscous_force(-0.04, &l) + 978.0).abs() < 1e-9);
+        assert!((m.viscous_force(0.01, &l) - 489.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn dwell_raises_breakaway_with_time_at_rest() {
+        let mut m = base();
+        m.effects.dwell_stiction = Some(DwellStiction {
+            max_increase: 200.0,
+            time_constant: 1.0,
+            stick_velocity: 1e-4,
+        });
+        let mut s = FrictionState::default();
+        for _ in 0..1000 {
+            m.step(&mut s, 0.0, &REF, 1e-3);
+        }
+        assert!((s.dwell_time - 1.0).abs() < 1e-9);
+        let l = m.levels(0.0, &REF, s.dwell_time);
+        assert!((l.static_ - (632.0 + 200.0 * (1.0 - (-1.0f64).exp()))).abs() < 1e-9);
+        // frozen through the Stribeck region, reset once sliding
+        m.step(&mut s, 0.005, &REF, 1e-3);
+        assert!((s.dwell_time - 1.0).abs() < 1e-9);
+        m.step(&mut s, 0.05, &REF, 1e-3);
+        assert_eq!(s.dwell_time, 0.0);
+    }
+
+    #[test]
+    fn levels_stay_physical_for_extreme_conditions() {
+        let mut m = base();
+        m.effects.load_dependence = Some(LoadDependence {
+            coefficient: 1.0,
+            reference_pressure_sum: 0.0,
+        });
+        let l = m.levels(
+            0.01,
+            &Conditions {
+                pressure_sum: -1e9,
+                ..REF
+            },
+            0.0,
+        );
+        assert!(l.coulomb > 0.0 && l.static_ >= l.coulomb);
     }
 }

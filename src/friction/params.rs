@@ -223,7 +223,8 @@ impl<T: Float> LugreParams<T> {
     /// Passivity (Barabanov and Ortega, 2000): the map v -> F is dissipative when
     /// `sigma2 > sigma1 * (Fs - Fc) / Fc`.
     pub fn warning(&self) -> Option<ParamWarning> {
-        let bound = self.bristle_damping * (self.static_force - self.coulomb_force) / self.coulomb_force;
+        let bound =
+            self.bristle_damping * (self.static_force - self.coulomb_force) / self.coulomb_force;
         (self.viscous_coefficient <= bound).then_some(ParamWarning::NotDissipative)
     }
 

@@ -92,7 +92,15 @@ impl Cylinder {
     }
 
     /// (dp_a/dt, dp_b/dt) [Pa/s].
-    pub fn pressure_rates(&self, p_a: f64, p_b: f64, x: f64, v: f64, q_a: f64, q_b: f64) -> (f64, f64) {
+    pub fn pressure_rates(
+        &self,
+        p_a: f64,
+        p_b: f64,
+        x: f64,
+        v: f64,
+        q_a: f64,
+        q_b: f64,
+    ) -> (f64, f64) {
         let c = &self.config;
         let xc = x.clamp(0.0, c.stroke_m);
         let v_a = c.dead_volume_a_m3 + c.piston_area_m2 * xc;
@@ -106,7 +114,10 @@ impl Cylinder {
 
     /// Cavitation floor and relief ceiling.
     pub fn clamp_pressures(&self, p_a: f64, p_b: f64) -> (f64, f64) {
-        let (lo, hi) = (self.config.vapour_pressure_pa, self.config.relief_pressure_pa);
+        let (lo, hi) = (
+            self.config.vapour_pressure_pa,
+            self.config.relief_pressure_pa,
+        );
         (p_a.clamp(lo, hi), p_b.clamp(lo, hi))
     }
 
@@ -123,7 +134,8 @@ impl Cylinder {
     /// End-stop force [N] (pushes back only).
     pub fn end_stop_force(&self, x: f64, v: f64) -> f64 {
         let d = self.penetration(x);
-        let f = -self.config.end_stop_stiffness_n_per_m * d - self.config.end_stop_damping_n_s_per_m * v;
+        let f = -self.config.end_stop_stiffness_n_per_m * d
+            - self.config.end_stop_damping_n_s_per_m * v;
         if d < 0.0 {
             f.max(0.0)
         } else if d > 0.0 {

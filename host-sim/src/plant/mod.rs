@@ -171,7 +171,11 @@ impl Plant {
     /// Advances by `duration` [s] with the valve command `u` (normalised, clamped to [-1, 1])
     /// held.
     pub fn advance(&mut self, u: f64, duration: f64) {
-        let u = if u.is_finite() { u.clamp(-1.0, 1.0) } else { 0.0 };
+        let u = if u.is_finite() {
+            u.clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
         let n = (duration / self.config.substep_s).round().max(1.0) as usize;
         let h = duration / n as f64;
         for _ in 0..n {
@@ -212,16 +216,20 @@ impl Plant {
 
         // Chambers: flows from the valve, motion and leakage.
         let (q_a, q_b) = self.valve.flows(s.spool, s.p_a, s.p_b);
-        let (dp_a, dp_b) = self.cylinder.pressure_rates(s.p_a, s.p_b, s.x, s.v, q_a, q_b);
-        let (p_a, p_b) = self.cylinder.clamp_pressures(s.p_a + dp_a * h, s.p_b + dp_b * h);
+        let (dp_a, dp_b) = self
+            .cylinder
+            .pressure_rates(s.p_a, s.p_b, s.x, s.v, q_a, q_b);
+        let (p_a, p_b) = self
+            .cylinder
+            .clamp_pressures(s.p_a + dp_a * h, s.p_b + dp_b * h);
         s.p_a = p_a;
         s.p_b = p_b;
 
         // Oil temperature.
         let th = &self.config.thermal;
         let p_heat = (f_fric * s.v).abs() + th.extra_heat_w;
-        s.temperature_c +=
-            h * (p_heat - th.conductance_w_per_k * (s.temperature_c - th.ambient_c)) / th.heat_capacity_j_per_k;
+        s.temperature_c += h * (p_heat - th.conductance_w_per_k * (s.temperature_c - th.ambient_c))
+            / th.heat_capacity_j_per_k;
         s.t += h;
     }
 

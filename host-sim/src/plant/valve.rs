@@ -54,7 +54,9 @@ const LAMINAR_PRESSURE_PA: f64 = 1e5;
 
 /// `sqrt(dp)` with a laminar region around zero (see the module docs).
 fn orifice(dp: f64) -> f64 {
-    dp / (dp * dp + LAMINAR_PRESSURE_PA * LAMINAR_PRESSURE_PA).sqrt().sqrt()
+    dp / (dp * dp + LAMINAR_PRESSURE_PA * LAMINAR_PRESSURE_PA)
+        .sqrt()
+        .sqrt()
 }
 
 impl ServoValve {
