@@ -150,7 +150,7 @@ impl Record {
             .headers()
             .map_err(|e| err(csv_line(&e), None, format!("unreadable header: {e}")))?
             .clone();
-        let header_line = rdr.position().line().max(1);
+        let header_line = headers.position().map_or(1, |p| p.line()).max(1);
         if headers.is_empty() || (headers.len() == 1 && headers[0].is_empty()) {
             return Err(err(Some(1), None, "empty file: no header row".into()));
         }
