@@ -64,6 +64,10 @@ impl Rig {
             ..Default::default()
         };
         rec.meta.push(("source".into(), "host-sim".into()));
+        rec.meta.push((
+            "moving_mass_kg".into(),
+            config.cylinder.moving_mass_kg.to_string(),
+        ));
         Self {
             plant: Plant::new(config, x0),
             sensors: Sensors::new(sensors),
@@ -105,8 +109,8 @@ impl Rig {
         push(&mut r.p_a, m.p_a);
         push(&mut r.p_b, m.p_b);
         push(&mut r.temp, m.temperature_c);
-        self.true_v.push(self.plant.state.v);
-        self.true_f.push(self.plant.state.friction_force);
+        self.true_v.push(m.truth.v);
+        self.true_f.push(m.truth.friction_force);
     }
 
     /// Ends the run and returns the record.

@@ -4,7 +4,9 @@
 //! hardware ([`plant`]), the experiments engineers run on a rig ([`experiments`]), the common
 //! measurement format ([`record`]) and parameter file ([`params_file`]).
 
+pub mod diagnose;
 pub mod experiments;
 pub mod params_file;
 pub mod plant;
 pub mod record;
+pub mod scenarios;

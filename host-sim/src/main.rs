@@ -5,9 +5,10 @@ use host_sim::experiments::{self, SteadyPoint};
 use host_sim::params_file::ParamFile;
 use host_sim::plant::{PlantConfig, SensorConfig};
 use host_sim::record::Record;
-use lugre_servo::friction::effects as fx;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+mod cli;
 
 #[derive(Parser)]
 #[command(
@@ -28,6 +29,9 @@ enum Command {
         #[arg(long, default_value = "demo-out")]
         out: PathBuf,
     },
+    /// Compares a friction model with a measured record, finds where it fails and which
+    /// physical effect is missing, adds effects and reports the error falling.
+    Diagnose(DiagnoseArgs),
     /// Runs one experiment on the simulated axis and writes the record as CSV.
     Simulate {
         /// Which experiment.
@@ -55,6 +59,34 @@ enum Command {
     },
 }
 
+#[derive(clap::Args)]
+struct DiagnoseArgs {
+    /// The measured record (CSV).
+    #[arg(long)]
+    data: PathBuf,
+    /// A parameter file: mass and friction are used as given for the comparison.
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Moving mass [kg] (identified from the record when neither this nor --params is given).
+    #[arg(long)]
+    mass: Option<f64>,
+    /// Effects to add to the model, in order (comma separated).
+    #[arg(long, value_delimiter = ',')]
+    add: Vec<String>,
+    /// Another record to test the fitted model on (no refit).
+    #[arg(long)]
+    validate: Option<PathBuf>,
+    /// Writes a self-contained HTML report.
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// Writes the results as JSON.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Writes the final (extended) model as a parameter file.
+    #[arg(long)]
+    out_params: Option<PathBuf>,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum Experiment {
     /// Constant-velocity sweep in both directions (steady-state friction curve).
@@ -65,6 +97,8 @@ enum Experiment {
     Sine,
     /// Trapezoidal moves with dwells.
     Trapezoid,
+    /// The composite record used for diagnosis: moves across the stroke at many speeds, dwells.
+    Diagnosis,
 }
 
 /// Sensor settings.
@@ -83,66 +117,11 @@ fn sensors(noise: Noise, seed: u64) -> SensorConfig {
     }
 }
 
-/// Switches an effect on in a plant configuration with a clearly visible strength.
-fn switch_effect(cfg: &mut PlantConfig, name: &str) -> Result<(), String> {
-    let e = &mut cfg.friction.effects;
-    let p_sum = cfg.valve.supply_pressure_pa;
-    match name {
-        "asymmetry" => {
-            e.asymmetry = Some(fx::Asymmetry {
-                coulomb_ratio: 0.15,
-                viscous_ratio: 0.25,
-            })
-        }
-        "offset" => e.offset = Some(fx::Offset { force: 150.0 }),
-        "load_dependence" => {
-            e.load_dependence = Some(fx::LoadDependence {
-                coefficient: 1.5e-5,
-                reference_pressure_sum: p_sum,
-            })
-        }
-        "position_dependence" => {
-            e.position_dependence = Some(fx::PositionDependence {
-                gradient: 800.0,
-                center: 0.25,
-            })
-        }
-        "temperature_dependence" => {
-            e.temperature_dependence = Some(fx::TemperatureDependence {
-                viscous_per_kelvin: 0.02,
-                coulomb_per_kelvin: 0.01,
-                reference_temperature: 40.0,
-            });
-            cfg.thermal.extra_heat_w = 400.0;
-        }
-        "stribeck_shape" => e.stribeck_shape = Some(fx::StribeckShape { exponent: 0.8 }),
-        "viscous_power" => {
-            e.viscous_power = Some(fx::ViscousPower {
-                exponent: 0.6,
-                reference_velocity: 0.02,
-            })
-        }
-        "dwell_stiction" => {
-            e.dwell_stiction = Some(fx::DwellStiction {
-                max_increase: 250.0,
-                time_constant: 0.5,
-                stick_velocity: 2e-4,
-            })
-        }
-        other => {
-            return Err(format!(
-                "unknown effect '{other}'; known: {}",
-                lugre_servo::friction::EFFECT_NAMES.join(", ")
-            ))
-        }
-    }
-    Ok(())
-}
-
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo { out } => demo(&out),
+        Command::Diagnose(args) => cli::diagnose::run(&args),
         Command::Simulate {
             experiment,
             out,
@@ -184,7 +163,7 @@ fn simulate(
         cfg.cylinder.moving_mass_kg = file.axis.moving_mass_kg;
     }
     for e in effects {
-        switch_effect(&mut cfg, e)?;
+        host_sim::scenarios::with_effect(&mut cfg, e, 1.0)?;
     }
     if !(duration.is_finite() && duration > 0.0) {
         return Err("--duration must be a positive number of seconds".into());
@@ -211,6 +190,7 @@ fn run_experiment(
         Experiment::Trapezoid => {
             experiments::trapezoid(cfg, sensors, 0.05, 0.05, 0.5, 0.5, duration)
         }
+        Experiment::Diagnosis => host_sim::scenarios::diagnosis_run(cfg, sensors, duration),
     }
 }
 

@@ -66,6 +66,9 @@ pub struct Measurement {
     pub p_b: f64,
     /// Oil temperature [degC].
     pub temperature_c: f64,
+    /// The true plant state this sample was taken from (for records' truth columns and tests;
+    /// a controller must not look at it).
+    pub truth: PlantState,
 }
 
 /// The sensor chain with its delay line and noise generator.
@@ -117,6 +120,7 @@ impl Sensors {
             p_a,
             p_b,
             temperature_c,
+            truth: s,
         }
     }
 }

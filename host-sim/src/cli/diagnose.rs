@@ -1,0 +1,204 @@
+//! `host-sim diagnose`.
+
+use crate::DiagnoseArgs;
+use host_sim::diagnose::{self, inverse::AxisModel, Diagnosis, Options};
+use host_sim::params_file::ParamFile;
+use host_sim::record::Record;
+use serde::Serialize;
+use std::path::Path;
+
+/// The scripting contract of `--json`.
+#[derive(Serialize)]
+pub struct JsonOut<'a> {
+    /// Error of the starting model [%] (as given, or the refitted symmetric baseline).
+    pub baseline_rel_err_pct: f64,
+    /// Candidates for the next effect on top of the final model, best first.
+    pub candidates: &'a [diagnose::Candidate],
+    /// Effects added (when --add was given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub added: Option<Vec<String>>,
+    /// Error after adding them [%].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rel_err_pct: Option<f64>,
+    /// Error of the final model on the --validate record [%].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub validation_rel_err_pct: Option<f64>,
+    /// The refitted symmetric baseline's error [%].
+    pub refit_baseline_rel_err_pct: f64,
+    /// Error of the simulator's truth through the same pipeline [%] (simulated records).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub noise_floor_pct: Option<f64>,
+    /// Error after each stage [%], baseline first.
+    pub history: Vec<(String, f64)>,
+    /// Where the final model fails.
+    pub regimes: &'a diagnose::regimes::RegimeReport,
+}
+
+/// Runs the subcommand.
+pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
+    let rec = Record::read(&a.data).map_err(|e| e.to_string())?;
+    let name = a.data.display().to_string();
+    let given = match &a.params {
+        Some(p) => {
+            let (file, model) = ParamFile::read(p)?;
+            Some(AxisModel {
+                mass_kg: a.mass.unwrap_or(file.axis.moving_mass_kg),
+                friction: model,
+            })
+        }
+        None => None,
+    };
+    if let Some(m) = a.mass {
+        if !(m.is_finite() && m > 0.0) {
+            return Err(format!(
+                "--mass must be a positive number of kilograms, got {m}"
+            ));
+        }
+    }
+    let opts = Options {
+        given,
+        mass_kg: a.mass,
+        add: a.add.clone(),
+        ..Default::default()
+    };
+    let wall = std::time::Instant::now();
+    let d = diagnose::diagnose(&rec, &name, &opts)?;
+    let validation = match &a.validate {
+        Some(v) => {
+            let other = Record::read(v).map_err(|e| e.to_string())?;
+            Some(diagnose::validate(
+                d.model(),
+                &other,
+                &v.display().to_string(),
+                opts.protocol,
+            )?)
+        }
+        None => None,
+    };
+    print_text(&d, validation, wall.elapsed().as_secs_f64());
+    if let Some(path) = &a.json {
+        let last = &d.stages[d.stages.len() - 1];
+        let out = JsonOut {
+            baseline_rel_err_pct: d.given_rel_err_pct.unwrap_or(d.stages[0].fit.rel_err_pct),
+            candidates: &last.candidates,
+            added: (!a.add.is_empty()).then(|| a.add.clone()),
+            rel_err_pct: (!a.add.is_empty()).then_some(last.fit.rel_err_pct),
+            validation_rel_err_pct: validation,
+            refit_baseline_rel_err_pct: d.stages[0].fit.rel_err_pct,
+            noise_floor_pct: d.noise_floor_pct,
+            history: d
+                .stages
+                .iter()
+                .map(|s| (s.label.clone(), s.fit.rel_err_pct))
+                .collect(),
+            regimes: &last.regimes,
+        };
+        let text = serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?;
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    if let Some(path) = &a.out_params {
+        write_params(&d, path)?;
+    }
+    if let Some(path) = &a.report {
+        let html = host_sim::diagnose::report::html(&d, &name, validation);
+        std::fs::write(path, html).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// Writes the final model as a parameter file.
+pub fn write_params(d: &Diagnosis, path: &Path) -> Result<(), String> {
+    let m = d.model();
+    let mut file = ParamFile::new(&m.friction, m.mass_kg);
+    file.fit.source = Some("host-sim diagnose".into());
+    file.fit.rel_err_pct = Some(d.stages[d.stages.len() - 1].fit.rel_err_pct);
+    file.write(path)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// Prints the story of a diagnosis.
+pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
+    if let Some(g) = d.given_rel_err_pct {
+        println!("model as given: relative force error {g:.2} %");
+    }
+    for (i, s) in d.stages.iter().enumerate() {
+        let m = &s.fit.model;
+        let p = &m.friction.params;
+        println!(
+            "\n-- {} : relative force error {:.2} % --",
+            s.label, s.fit.rel_err_pct
+        );
+        if i == 0 {
+            println!(
+                "   M {:.2} kg, Fc {:.2} N, Fs {:.2} N, sigma2 {:.1} N s/m, vs {:.2} mm/s, sigma0 {:.3e} N/m",
+                m.mass_kg,
+                p.coulomb_force(),
+                p.static_force(),
+                p.viscous_coefficient(),
+                p.stribeck_velocity() * 1e3,
+                p.bristle_stiffness()
+            );
+        }
+        println!("   where it fails:");
+        for f in &s.regimes.findings {
+            println!("   - {f}");
+        }
+        if i + 1 == d.stages.len() {
+            println!("   candidate effects (best first):");
+            for c in &s.candidates {
+                match (&c.skipped, c.rel_err_pct, c.delta_bic) {
+                    (Some(why), _, _) => println!("   {:<24} skipped: {why}", c.effect),
+                    (None, Some(e), Some(b)) => {
+                        let params: Vec<String> = c
+                            .parameters
+                            .iter()
+                            .map(|p| {
+                                format!(
+                                    "{} {:.4e} [{:.3e}, {:.3e}]",
+                                    p.name, p.value, p.ci_low, p.ci_high
+                                )
+                            })
+                            .collect();
+                        println!(
+                            "   {:<24} {:>6.2} %  dBIC {:>8.1}  {}  {}",
+                            c.effect,
+                            e,
+                            b,
+                            if c.significant {
+                                "SIGNIFICANT"
+                            } else {
+                                "not significant"
+                            },
+                            params.join(", ")
+                        );
+                        if c.significant {
+                            println!("   {:<24} -> {}", "", c.meaning);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            if !s.candidates.iter().any(|c| c.significant) {
+                println!("   no candidate effect is significant: the model explains what this record shows");
+            }
+        }
+    }
+    if let Some(n) = d.noise_floor_pct {
+        println!(
+            "\nnoise floor (the simulator's true friction through the same pipeline): {n:.2} %"
+        );
+    }
+    if let Some(v) = validation {
+        println!("validation record: relative force error {v:.2} %");
+    }
+    println!(
+        "({} samples, N_eff {:.0}, {:.2} s)",
+        d.prepared.len(),
+        d.effective_samples,
+        wall_s
+    );
+}

@@ -1,0 +1,542 @@
+//! Refitting a friction model (with any set of effects) to a prepared record.
+//!
+//! With the normalised bristle state `s = sigma0 z / g` taken from the model simulated along
+//! the measured motion, the LuGre force is `g(v) s + F_visc(v) + F0` (plus the tiny
+//! `sigma1 dz/dt`), and with the effects of `lugre_servo::friction::effects`:
+//!
+//! ```text
+//! g = tau_c (1 + d rc) [Fc (1 - e) + Fs e] + tau_c (k (p - p_ref) + k_x (x - x_c)) + dF w e
+//! F_visc = (1 + d rv) exp(-k_v dT) sigma2 v_term
+//! e = exp(-|v / vs|^delta), tau_c = 1 + k_c dT, w = 1 - exp(-t_dwell / tau), d = sign(v)
+//! ```
+//!
+//! which is linear in `M, Fc, Fs, sigma2, rc, rv, F0, k, k_x, k_c, dF` once the other
+//! factors are held at their current values. The fit alternates: simulate `s` with the
+//! current model, solve the (parallel-filtered) linear least squares for all linear parameters,
+//! rebuild the model; three rounds converge for every case here. The nonlinear parameters
+//! (`vs`, the pre-sliding length `Fs / sigma0`, `delta` of the Stribeck shape and of the
+//! viscous power law, `tau`, `k_v`) are searched on grids by the callers.
+//!
+//! Errors and statistics always come from the real model (the core's exact LuGre step) run
+//! along the motion, not from the linearisation.
+
+use super::inverse::{AxisModel, Prepared};
+use lugre_servo::friction::effects as fx;
+use lugre_servo::friction::LugreParams;
+use nalgebra::{DMatrix, DVector};
+
+/// A linear parameter of the fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    /// Moving mass M [kg].
+    Mass,
+    /// Fc [N].
+    Coulomb,
+    /// Fs [N].
+    Static,
+    /// sigma2 [N s/m].
+    Viscous,
+    /// asymmetry rc [-].
+    AsymCoulomb,
+    /// asymmetry rv [-].
+    AsymViscous,
+    /// offset F0 [N].
+    Offset,
+    /// load_dependence k [N/Pa].
+    LoadCoefficient,
+    /// position_dependence k_x [N/m].
+    PositionGradient,
+    /// temperature_dependence k_c [1/K].
+    TempCoulomb,
+    /// dwell_stiction dF [N].
+    DwellIncrease,
+}
+
+impl Param {
+    /// Name and unit for reports.
+    pub fn label(self) -> &'static str {
+        match self {
+            Param::Mass => "moving_mass_kg",
+            Param::Coulomb => "coulomb_force_n",
+            Param::Static => "static_force_n",
+            Param::Viscous => "viscous_coefficient_n_s_per_m",
+            Param::AsymCoulomb => "coulomb_ratio",
+            Param::AsymViscous => "viscous_ratio",
+            Param::Offset => "force_n",
+            Param::LoadCoefficient => "coefficient_n_per_pa",
+            Param::PositionGradient => "gradient_n_per_m",
+            Param::TempCoulomb => "coulomb_per_kelvin",
+            Param::DwellIncrease => "max_increase_n",
+        }
+    }
+}
+
+/// A fitted value with its standard error (inflated for the filtered, correlated residual).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimate {
+    /// Which parameter.
+    pub param: Param,
+    /// Value.
+    pub value: f64,
+    /// Standard error.
+    pub std_error: f64,
+}
+
+/// Result of a refit.
+#[derive(Clone, Debug)]
+pub struct Fit {
+    /// The fitted model.
+    pub model: AxisModel,
+    /// Relative force error [%].
+    pub rel_err_pct: f64,
+    /// Residual sum of squares of the filtered force [N^2].
+    pub rss: f64,
+    /// The linear estimates.
+    pub estimates: Vec<Estimate>,
+}
+
+impl Fit {
+    /// An estimate by parameter.
+    pub fn estimate(&self, p: Param) -> Option<Estimate> {
+        self.estimates.iter().copied().find(|e| e.param == p)
+    }
+}
+
+/// Effective number of independent samples of a residual band-limited to `B` Hz over `T`
+/// seconds: `2 B T` (capped at the sample count).
+pub fn effective_samples(p: &Prepared, parallel_cutoff_hz: f64) -> f64 {
+    let duration = p.dt * p.len() as f64;
+    (2.0 * parallel_cutoff_hz.min(0.1 / p.dt) * duration)
+        .min(p.len() as f64)
+        .max(10.0)
+}
+
+/// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
+/// `fixed_mass` keeps M as given.
+pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
+    let mut model = *seed;
+    if let Some(m) = fixed_mass {
+        model.mass_kg = m;
+    }
+    let score = |m: &AxisModel| {
+        let filtered = p.parallel.filtfilt(&m.predict(p));
+        p.force
+            .iter()
+            .zip(&filtered)
+            .map(|(f, q)| (f - q) * (f - q))
+            .sum::<f64>()
+    };
+    // The linearised step can overshoot where two effects are nearly collinear (an offset and
+    // a direction-dependent Coulomb level differ only while stuck): accept an iterate only if
+    // the real model scores better, else halve the step towards the current one.
+    let mut rss = score(&model);
+    let mut estimates = Vec::new();
+    // Levenberg-Marquardt damping mu (relative to the diagonal of J'J): raised tenfold when
+    // an iterate scores worse, lowered after a success.
+    let mut mu = 1e-6;
+    for _ in 0..8 {
+        let (next, est) = linear_step(&model, p, fixed_mass, n_eff, mu);
+        let next_rss = score(&next);
+        if next_rss <= rss {
+            let gain = (rss - next_rss) / rss.max(1e-300);
+            model = next;
+            rss = next_rss;
+            estimates = est;
+            mu = (mu / 10.0).max(1e-9);
+            if gain < 1e-6 {
+                break;
+            }
+        } else {
+            if estimates.is_empty() {
+                estimates = est;
+            }
+            mu *= 10.0;
+            if mu > 1e4 {
+                break;
+            }
+        }
+    }
+    // report the accepted model's values with the last standard errors
+    for e in estimates.iter_mut() {
+        e.value = value_of(&model, e.param);
+    }
+    Fit {
+        model,
+        rel_err_pct: 100.0 * rss.sqrt() / p.force_norm,
+        rss,
+        estimates,
+    }
+}
+
+/// The current value of a linear parameter in a model.
+pub fn value_of(m: &AxisModel, param: Param) -> f64 {
+    let e = &m.friction.effects;
+    let q = &m.friction.params;
+    match param {
+        Param::Mass => m.mass_kg,
+        Param::Coulomb => q.coulomb_force(),
+        Param::Static => q.static_force(),
+        Param::Viscous => q.viscous_coefficient(),
+        Param::AsymCoulomb => e.asymmetry.map_or(0.0, |a| a.coulomb_ratio),
+        Param::AsymViscous => e.asymmetry.map_or(0.0, |a| a.viscous_ratio),
+        Param::Offset => e.offset.map_or(0.0, |o| o.force),
+        Param::LoadCoefficient => e.load_dependence.map_or(0.0, |l| l.coefficient),
+        Param::PositionGradient => e.position_dependence.map_or(0.0, |x| x.gradient),
+        Param::TempCoulomb => e
+            .temperature_dependence
+            .map_or(0.0, |t| t.coulomb_per_kelvin),
+        Param::DwellIncrease => e.dwell_stiction.map_or(0.0, |d| d.max_increase),
+    }
+}
+
+// one pass over the samples fills every column: indexing reads clearer than zipped iterators
+#[allow(clippy::needless_range_loop)]
+fn linear_step(
+    m: &AxisModel,
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+    mu: f64,
+) -> (AxisModel, Vec<Estimate>) {
+    let n = p.len();
+    let sim = m.simulate(p);
+    let fr = &m.friction;
+    let e = &fr.effects;
+    let (fc, fs, s2) = (
+        fr.params.coulomb_force(),
+        fr.params.static_force(),
+        fr.params.viscous_coefficient(),
+    );
+    let vs = fr.params.stribeck_velocity();
+    let shape = e.stribeck_shape.map_or(2.0, |s| s.exponent);
+    let (rc, rv) = e
+        .asymmetry
+        .map_or((0.0, 0.0), |a| (a.coulomb_ratio, a.viscous_ratio));
+    let reference = e.reference_conditions();
+
+    let mut params: Vec<Param> = Vec::new();
+    if fixed_mass.is_none() {
+        params.push(Param::Mass);
+    }
+    params.extend([Param::Coulomb, Param::Static, Param::Viscous]);
+    if e.asymmetry.is_some() {
+        params.extend([Param::AsymCoulomb, Param::AsymViscous]);
+    }
+    if e.offset.is_some() {
+        params.push(Param::Offset);
+    }
+    if e.load_dependence.is_some() {
+        params.push(Param::LoadCoefficient);
+    }
+    if e.position_dependence.is_some() {
+        params.push(Param::PositionGradient);
+    }
+    if e.temperature_dependence.is_some() {
+        params.push(Param::TempCoulomb);
+    }
+    if e.dwell_stiction.is_some() {
+        params.push(Param::DwellIncrease);
+    }
+    let k = params.len();
+    let mut cols = vec![vec![0.0; n]; k];
+    for i in 0..n {
+        let v = p.v_step[i];
+        let d = if v >= 0.0 { 1.0 } else { -1.0 };
+        let s = sim.bristle[i];
+        let c = p.conditions(i, &reference);
+        let ex = (-(v / vs).abs().powf(shape)).exp();
+        let d_t = e
+            .temperature_dependence
+            .map_or(0.0, |t| c.temperature - t.reference_temperature);
+        let tau_c = e
+            .temperature_dependence
+            .map_or(1.0, |t| 1.0 + t.coulomb_per_kelvin * d_t);
+        let kv_fac = e
+            .temperature_dependence
+            .map_or(1.0, |t| (-t.viscous_per_kelvin * d_t).exp());
+        let load_x = e
+            .load_dependence
+            .map_or(0.0, |l| c.pressure_sum - l.reference_pressure_sum);
+        let pos_x = e.position_dependence.map_or(0.0, |x| c.position - x.center);
+        let shift = e.load_dependence.map_or(0.0, |l| l.coefficient * load_x)
+            + e.position_dependence.map_or(0.0, |x| x.gradient * pos_x);
+        let v_term = match e.viscous_power {
+            Some(pw) => {
+                d * pw.reference_velocity * (v.abs() / pw.reference_velocity).powf(pw.exponent)
+            }
+            None => v,
+        };
+        let w = e
+            .dwell_stiction
+            .map_or(0.0, |dw| -(-sim.dwell[i] / dw.time_constant).exp_m1());
+        let level = fc * (1.0 - ex) + fs * ex;
+        for (j, prm) in params.iter().enumerate() {
+            cols[j][i] = match prm {
+                Param::Mass => p.a[i],
+                Param::Coulomb => tau_c * (1.0 + d * rc) * (1.0 - ex) * s,
+                Param::Static => tau_c * (1.0 + d * rc) * ex * s,
+                Param::Viscous => (1.0 + d * rv) * kv_fac * v_term,
+                Param::AsymCoulomb => tau_c * d * level * s,
+                Param::AsymViscous => d * s2 * kv_fac * v_term,
+                Param::Offset => 1.0,
+                Param::LoadCoefficient => tau_c * load_x * s,
+                Param::PositionGradient => tau_c * pos_x * s,
+                Param::TempCoulomb => d_t * (1.0 + d * rc) * (level + shift) * s,
+                Param::DwellIncrease => w * ex * s,
+            };
+        }
+    }
+    // Gauss-Newton: force ~ model0 + J (theta - theta0), so regress
+    // force - (model0 - J theta0) on J. Terms outside J (sigma1 dz/dt, a fixed mass) stay in
+    // model0, and bilinear terms (rc Fc, rv sigma2) are linearised correctly.
+    let theta0: Vec<f64> = params.iter().map(|q| value_of(m, *q)).collect();
+    let offset_part: Vec<f64> = (0..n)
+        .map(|i| {
+            let model0 = m.mass_kg * p.a[i] + sim.friction[i];
+            let j_theta0: f64 = (0..k).map(|j| theta0[j] * cols[j][i]).sum();
+            model0 - j_theta0
+        })
+        .collect();
+    let offset_f = p.parallel.filtfilt(&offset_part);
+    let target: Vec<f64> = p.force.iter().zip(&offset_f).map(|(f, q)| f - q).collect();
+    let cols_f: Vec<Vec<f64>> = cols.iter().map(|c| p.parallel.filtfilt(c)).collect();
+
+    // Scaled normal equations, solved by SVD (robust to a column that carries nothing).
+    let scale: Vec<f64> = cols_f
+        .iter()
+        .map(|c| {
+            (c.iter().map(|v| v * v).sum::<f64>() / n as f64)
+                .sqrt()
+                .max(1e-300)
+        })
+        .collect();
+    let mut xtx = DMatrix::<f64>::zeros(k, k);
+    let mut xty = DVector::<f64>::zeros(k);
+    for a in 0..k {
+        for b in a..k {
+            let s: f64 = cols_f[a]
+                .iter()
+                .zip(&cols_f[b])
+                .map(|(u, w)| u * w)
+                .sum::<f64>()
+                / (scale[a] * scale[b]);
+            xtx[(a, b)] = s;
+            xtx[(b, a)] = s;
+        }
+        xty[a] = cols_f[a]
+            .iter()
+            .zip(&target)
+            .map(|(u, w)| u * w)
+            .sum::<f64>()
+            / scale[a];
+    }
+    // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space)
+    let mut lm = xtx.clone();
+    let mut rhs = xty.clone();
+    for j in 0..k {
+        let d = mu * xtx[(j, j)];
+        lm[(j, j)] += d;
+        rhs[j] += d * theta0[j] * scale[j];
+    }
+    let svd = lm.svd(true, true);
+    // Relative tolerance: a direction the data cannot tell apart (near-collinear effects) gets
+    // the minimum-norm solution instead of a huge, cancelling pair of values.
+    let tol = 1e-8 * svd.singular_values.max();
+    let inv = svd
+        .pseudo_inverse(tol)
+        .unwrap_or_else(|_| DMatrix::zeros(k, k));
+    let theta_scaled = &inv * &rhs;
+    // standard errors from the undamped normal matrix
+    let cov_svd = xtx.clone().svd(true, true);
+    let cov_tol = 1e-8 * cov_svd.singular_values.max();
+    let cov = cov_svd
+        .pseudo_inverse(cov_tol)
+        .unwrap_or_else(|_| DMatrix::zeros(k, k));
+    let theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
+    let rss_lin: f64 = (0..n)
+        .map(|i| {
+            let pred: f64 = (0..k).map(|j| theta[j] * cols_f[j][i]).sum();
+            (target[i] - pred).powi(2)
+        })
+        .sum();
+    let sigma2_noise = rss_lin / (n as f64 - k as f64).max(1.0);
+    let inflation = n as f64 / n_eff;
+    let estimates: Vec<Estimate> = params
+        .iter()
+        .enumerate()
+        .map(|(j, prm)| Estimate {
+            param: *prm,
+            value: theta[j],
+            std_error: (sigma2_noise * cov[(j, j)] * inflation).max(0.0).sqrt() / scale[j],
+        })
+        .collect();
+    (rebuild(m, &estimates), estimates)
+}
+
+fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
+    let get = |p: Param| est.iter().find(|e| e.param == p).map(|e| e.value);
+    let old = &m.friction.params;
+    let fc = get(Param::Coulomb).unwrap_or(old.coulomb_force()).max(1e-3);
+    let fs = get(Param::Static).unwrap_or(old.static_force()).max(fc);
+    let s2 = get(Param::Viscous)
+        .unwrap_or(old.viscous_coefficient())
+        .max(0.0);
+    let params = LugreParams::new(
+        old.bristle_stiffness(),
+        old.bristle_damping(),
+        s2,
+        fc,
+        fs,
+        old.stribeck_velocity(),
+    )
+    .unwrap_or(*old);
+    let mut effects = m.friction.effects;
+    if let Some(a) = effects.asymmetry.as_mut() {
+        a.coulomb_ratio = get(Param::AsymCoulomb).unwrap_or(0.0).clamp(-0.95, 0.95);
+        a.viscous_ratio = get(Param::AsymViscous).unwrap_or(0.0).clamp(-0.95, 0.95);
+    }
+    if let Some(o) = effects.offset.as_mut() {
+        o.force = get(Param::Offset).unwrap_or(0.0);
+    }
+    if let Some(l) = effects.load_dependence.as_mut() {
+        l.coefficient = get(Param::LoadCoefficient).unwrap_or(0.0);
+    }
+    if let Some(x) = effects.position_dependence.as_mut() {
+        x.gradient = get(Param::PositionGradient).unwrap_or(0.0);
+    }
+    if let Some(t) = effects.temperature_dependence.as_mut() {
+        t.coulomb_per_kelvin = get(Param::TempCoulomb).unwrap_or(0.0);
+    }
+    if let Some(d) = effects.dwell_stiction.as_mut() {
+        d.max_increase = get(Param::DwellIncrease).unwrap_or(0.0);
+    }
+    AxisModel {
+        mass_kg: get(Param::Mass).unwrap_or(m.mass_kg),
+        friction: lugre_servo::friction::FrictionModel { params, effects },
+    }
+}
+
+/// Replaces the Stribeck velocity and bristle stiffness of a model (for grid searches).
+pub fn with_nonlinear(m: &AxisModel, stribeck_velocity: f64, bristle_stiffness: f64) -> AxisModel {
+    let o = &m.friction.params;
+    let params = LugreParams::new(
+        bristle_stiffness,
+        o.bristle_damping(),
+        o.viscous_coefficient(),
+        o.coulomb_force(),
+        o.static_force(),
+        stribeck_velocity,
+    )
+    .unwrap_or(*o);
+    AxisModel {
+        mass_kg: m.mass_kg,
+        friction: lugre_servo::friction::FrictionModel {
+            params,
+            effects: m.friction.effects,
+        },
+    }
+}
+
+/// Minimises `f` over a grid, then refines once with a parabola through the best point and its
+/// neighbours (in the grid's coordinate). Returns (best x, best value, every (x, value)).
+pub fn grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
+    grid: &[f64],
+    f: F,
+) -> (f64, T, Vec<(f64, f64)>) {
+    use rayon::prelude::*;
+    let vals: Vec<(f64, T)> = grid.par_iter().map(|&x| f(x)).collect();
+    let mut profile: Vec<(f64, f64)> = grid.iter().zip(&vals).map(|(x, (c, _))| (*x, *c)).collect();
+    let ib = (0..vals.len())
+        .min_by(|&a, &b| vals[a].0.total_cmp(&vals[b].0))
+        .unwrap_or(0);
+    let mut best = (grid[ib], vals[ib].clone());
+    if ib > 0 && ib + 1 < grid.len() {
+        let (x0, x1, x2) = (grid[ib - 1], grid[ib], grid[ib + 1]);
+        let (y0, y1, y2) = (vals[ib - 1].0, vals[ib].0, vals[ib + 1].0);
+        let den = (x0 - x1) * (x0 - x2) * (x1 - x2);
+        let a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den;
+        let b = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / den;
+        if a > 0.0 {
+            let xv = (-b / (2.0 * a)).clamp(x0, x2);
+            let r = f(xv);
+            profile.push((xv, r.0));
+            if r.0 < best.1 .0 {
+                best = (xv, r);
+            }
+        }
+    }
+    (best.0, best.1 .1, profile)
+}
+
+/// A model with one more effect switched on, its nonlinear parameters set (for the grid).
+pub fn add_effect(m: &AxisModel, effect: &str, p: &Prepared, nonlinear: f64) -> AxisModel {
+    let mut out = *m;
+    let e = &mut out.friction.effects;
+    match effect {
+        "asymmetry" => {
+            e.asymmetry = Some(fx::Asymmetry {
+                coulomb_ratio: 0.0,
+                viscous_ratio: 0.0,
+            })
+        }
+        "offset" => e.offset = Some(fx::Offset { force: 0.0 }),
+        "load_dependence" => {
+            let r = p.pressure_sum.as_ref().map_or(0.0, |s| median(s));
+            e.load_dependence = Some(fx::LoadDependence {
+                coefficient: 0.0,
+                reference_pressure_sum: r,
+            })
+        }
+        "position_dependence" => {
+            let lo = p.x.iter().cloned().fold(f64::INFINITY, f64::min);
+            let hi = p.x.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            e.position_dependence = Some(fx::PositionDependence {
+                gradient: 0.0,
+                center: 0.5 * (lo + hi),
+            })
+        }
+        "temperature_dependence" => {
+            let r = p
+                .temperature
+                .as_ref()
+                .and_then(|t| t.first().copied())
+                .unwrap_or(0.0);
+            e.temperature_dependence = Some(fx::TemperatureDependence {
+                viscous_per_kelvin: nonlinear,
+                coulomb_per_kelvin: 0.0,
+                reference_temperature: r,
+            })
+        }
+        "stribeck_shape" => {
+            e.stribeck_shape = Some(fx::StribeckShape {
+                exponent: nonlinear,
+            })
+        }
+        "viscous_power" => {
+            e.viscous_power = Some(fx::ViscousPower {
+                exponent: nonlinear,
+                reference_velocity: VISCOUS_REFERENCE_VELOCITY,
+            })
+        }
+        "dwell_stiction" => {
+            e.dwell_stiction = Some(fx::DwellStiction {
+                max_increase: 0.0,
+                time_constant: nonlinear,
+                stick_velocity: DWELL_STICK_VELOCITY,
+            })
+        }
+        _ => {}
+    }
+    out
+}
+
+/// Reference velocity of the fitted viscous power law [m/s].
+pub const VISCOUS_REFERENCE_VELOCITY: f64 = 0.02;
+/// Below this speed the fitted dwell model counts the axis as stuck [m/s].
+pub const DWELL_STICK_VELOCITY: f64 = 2e-4;
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    s[s.len() / 2]
+}

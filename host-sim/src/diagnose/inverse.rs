@@ -1,0 +1,232 @@
+//! The inverse model: what force the axis really needed, and what a model predicts along the
+//! measured motion.
+//!
+//! Protocol (the EMPS benchmark's IDIM pipeline): the position is low-passed with a zero-phase
+//! 4th-order Butterworth at 100 Hz; velocity and acceleration are central differences of it;
+//! then every column (measured force, and every model force or regressor) goes through the
+//! same zero-phase "parallel" low-pass (20 Hz), so that measurement and model are compared in
+//! the same band. The relative force error is `100 ||F - F_hat|| / ||F||` on those columns.
+
+use super::filter::LowPass;
+use crate::record::Record;
+use lugre_servo::friction::{Conditions, FrictionModel, FrictionState};
+
+/// Filter settings of the inverse model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Protocol {
+    /// Zero-phase low-pass on the position before differentiation [Hz].
+    pub position_cutoff_hz: f64,
+    /// Zero-phase low-pass applied to every force column [Hz].
+    pub parallel_cutoff_hz: f64,
+}
+
+impl Default for Protocol {
+    fn default() -> Self {
+        Self {
+            position_cutoff_hz: 100.0,
+            parallel_cutoff_hz: 20.0,
+        }
+    }
+}
+
+/// A record made ready for the inverse model.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    /// Sample period [s].
+    pub dt: f64,
+    /// Time [s].
+    pub t: Vec<f64>,
+    /// Filtered position [m].
+    pub x: Vec<f64>,
+    /// Velocity (central difference of the filtered position) [m/s].
+    pub v: Vec<f64>,
+    /// Acceleration [m/s^2].
+    pub a: Vec<f64>,
+    /// Mean velocity over the step ending at each sample [m/s] (drives the LuGre step).
+    pub v_step: Vec<f64>,
+    /// Measured force after the parallel filter [N].
+    pub force: Vec<f64>,
+    /// Chamber pressure sum [Pa], if recorded.
+    pub pressure_sum: Option<Vec<f64>>,
+    /// Oil temperature [degC], if recorded.
+    pub temperature: Option<Vec<f64>>,
+    /// The parallel filter.
+    pub parallel: LowPass,
+    /// Norm of the filtered measured force, the error's denominator [N].
+    pub force_norm: f64,
+}
+
+/// Minimum record length [samples].
+pub const MIN_SAMPLES: usize = 500;
+
+impl Prepared {
+    /// Prepares a record; refuses records that are too short, irregularly sampled or without
+    /// motion, naming the file.
+    pub fn new(rec: &Record, name: &str, protocol: Protocol) -> Result<Self, String> {
+        let n = rec.len();
+        if n < MIN_SAMPLES {
+            return Err(format!(
+                "{name}: record too short for diagnosis: {n} samples, need at least {MIN_SAMPLES}"
+            ));
+        }
+        let dt = rec.sample_period();
+        let irregular = rec
+            .t
+            .windows(2)
+            .filter(|w| ((w[1] - w[0]) - dt).abs() > 0.05 * dt)
+            .count();
+        if irregular > n / 100 {
+            return Err(format!(
+                "{name}: sampling is irregular ({irregular} of {n} intervals differ from the median {dt} s by more than 5 %)"
+            ));
+        }
+        let fs = 1.0 / dt;
+        let pos = LowPass::butterworth4(protocol.position_cutoff_hz.min(0.2 * fs), fs);
+        let parallel = LowPass::butterworth4(protocol.parallel_cutoff_hz.min(0.1 * fs), fs);
+        let x = pos.filtfilt(&rec.x);
+        let v = central_difference(&x, dt);
+        let a = central_difference(&v, dt);
+        let stroke = x.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - x.iter().cloned().fold(f64::INFINITY, f64::min);
+        let moving = v.iter().filter(|s| s.abs() > 1e-4).count();
+        if stroke < 1e-5 || moving < n / 50 {
+            return Err(format!(
+                "{name}: no motion to diagnose: the position spans {:.3e} m and the axis moves faster than 0.1 mm/s in {moving} of {n} samples",
+                stroke
+            ));
+        }
+        let mut v_step = vec![0.0; n];
+        for i in 1..n {
+            v_step[i] = (x[i] - x[i - 1]) / dt;
+        }
+        let force = parallel.filtfilt(&rec.force);
+        let force_norm = force.iter().map(|f| f * f).sum::<f64>().sqrt();
+        if force_norm <= 0.0 {
+            return Err(format!("{name}: the force column is zero everywhere"));
+        }
+        let pressure_sum = match (&rec.p_a, &rec.p_b) {
+            (Some(pa), Some(pb)) => {
+                Some(pos.filtfilt(&pa.iter().zip(pb).map(|(a, b)| a + b).collect::<Vec<_>>()))
+            }
+            _ => None,
+        };
+        let temperature = rec.temp.as_ref().map(|t| pos.filtfilt(t));
+        Ok(Self {
+            dt,
+            t: rec.t.clone(),
+            x,
+            v,
+            a,
+            v_step,
+            force,
+            pressure_sum,
+            temperature,
+            parallel,
+            force_norm,
+        })
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// True when empty (never, after `new`).
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// Relative force error [%] of a model force column (unfiltered; filtered here).
+    pub fn rel_err_pct(&self, predicted: &[f64]) -> f64 {
+        let p = self.parallel.filtfilt(predicted);
+        let r = self
+            .force
+            .iter()
+            .zip(&p)
+            .map(|(f, q)| (f - q) * (f - q))
+            .sum::<f64>()
+            .sqrt();
+        100.0 * r / self.force_norm
+    }
+
+    /// Operating conditions at sample `i` (missing channels at the model's reference).
+    pub fn conditions(&self, i: usize, reference: &Conditions<f64>) -> Conditions<f64> {
+        Conditions {
+            position: self.x[i],
+            pressure_sum: self
+                .pressure_sum
+                .as_ref()
+                .map_or(reference.pressure_sum, |p| p[i]),
+            temperature: self
+                .temperature
+                .as_ref()
+                .map_or(reference.temperature, |t| t[i]),
+        }
+    }
+}
+
+fn central_difference(x: &[f64], dt: f64) -> Vec<f64> {
+    let n = x.len();
+    let mut d = vec![0.0; n];
+    for i in 1..n - 1 {
+        d[i] = (x[i + 1] - x[i - 1]) / (2.0 * dt);
+    }
+    d[0] = (x[1] - x[0]) / dt;
+    d[n - 1] = (x[n - 1] - x[n - 2]) / dt;
+    d
+}
+
+/// A model of the axis: mass and friction (with effects).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisModel {
+    /// Moving mass [kg].
+    pub mass_kg: f64,
+    /// Friction model.
+    pub friction: FrictionModel<f64>,
+}
+
+/// What the friction model did along the measured motion.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    /// Friction force [N] (including the offset).
+    pub friction: Vec<f64>,
+    /// Normalised bristle state `s = sigma0 z / g(v)` (+-1 when sliding).
+    pub bristle: Vec<f64>,
+    /// Dwell time before the current motion [s].
+    pub dwell: Vec<f64>,
+}
+
+impl AxisModel {
+    /// Runs the friction model (the core's exact step) along the measured motion.
+    pub fn simulate(&self, p: &Prepared) -> Simulation {
+        let n = p.len();
+        let reference = self.friction.effects.reference_conditions();
+        let mut st = FrictionState::default();
+        let mut out = Simulation {
+            friction: Vec::with_capacity(n),
+            bristle: Vec::with_capacity(n),
+            dwell: Vec::with_capacity(n),
+        };
+        let sigma0 = self.friction.params.bristle_stiffness();
+        for i in 0..n {
+            let c = p.conditions(i, &reference);
+            let v = p.v_step[i];
+            let f = self.friction.step(&mut st, v, &c, p.dt);
+            let levels = self.friction.levels(v, &c, st.dwell_time);
+            let g = self.friction.stribeck_curve(v, &levels);
+            out.friction.push(f);
+            out.bristle.push((sigma0 * st.z / g).clamp(-1.0, 1.0));
+            out.dwell.push(st.dwell_time);
+        }
+        out
+    }
+
+    /// Predicted actuator force `M a + F_friction` [N] along the measured motion.
+    pub fn predict(&self, p: &Prepared) -> Vec<f64> {
+        let sim = self.simulate(p);
+        p.a.iter()
+            .zip(&sim.friction)
+            .map(|(a, f)| self.mass_kg * a + f)
+            .collect()
+    }
+}

@@ -1,0 +1,451 @@
+//! Diagnosis: compare a friction model with measurements, see where it fails, learn which
+//! physical effect is missing, add it and watch the error fall.
+//!
+//! Data path: [`Record`] -> [`inverse::Prepared`] (filtered motion, inverse-model force) ->
+//! model along the measured motion -> residual -> [`regimes`] and candidate effects
+//! ([`rank_candidates`]) -> refit with the chosen effect -> report.
+//!
+//! **Scoring.** A candidate effect extends the current model with its few parameters and is
+//! refitted ([`fit::refit`]). It is scored with the Bayesian information criterion on the
+//! filtered force residual, `dBIC = N_eff ln(RSS_0 / RSS_1) - k ln(N_eff)`, where `k` is its
+//! number of parameters and `N_eff = 2 B T` the number of independent samples of a residual
+//! band-limited to the parallel filter's `B` Hz over `T` seconds (the samples themselves are
+//! strongly correlated, so counting them would make everything look significant). An effect is
+//! **significant** when `dBIC > 10` ("very strong" evidence on Kass and Raftery's scale) *and*
+//! the 95 % confidence interval of one of its parameters excludes the value that means "no
+//! effect" (standard errors from the least-squares covariance scaled by `N / N_eff`; for a
+//! grid-searched parameter, the profile interval `N_eff ln(RSS / RSS_min) <= 3.84`).
+
+pub mod filter;
+pub mod fit;
+pub mod inverse;
+pub mod regimes;
+pub mod report;
+
+use crate::record::Record;
+use fit::{Fit, Param};
+use inverse::{AxisModel, Prepared, Protocol};
+use lugre_servo::friction::{FrictionModel, LugreParams};
+use rayon::prelude::*;
+use regimes::RegimeReport;
+use serde::Serialize;
+
+/// What each candidate effect means, what it needs, how it is searched.
+#[derive(Clone, Copy, Debug)]
+pub struct EffectInfo {
+    /// Name (as the simulator's switch).
+    pub name: &'static str,
+    /// Physical meaning, in words.
+    pub meaning: &'static str,
+    /// Linear parameters it adds.
+    pub linear: &'static [Param],
+    /// Grid of its nonlinear parameter, its name and its "no effect" value.
+    pub nonlinear: Option<(&'static str, &'static [f64], Option<f64>)>,
+}
+
+/// The eight candidate effects.
+pub const EFFECTS: [EffectInfo; 8] = [
+    EffectInfo {
+        name: "asymmetry",
+        meaning: "friction differs with the direction of motion (seal wear, side load, a fatigued screw)",
+        linear: &[Param::AsymCoulomb, Param::AsymViscous],
+        nonlinear: None,
+    },
+    EffectInfo {
+        name: "offset",
+        meaning: "a constant force whatever the motion (gravity on an inclined axis, a spring, a force-sensor offset)",
+        linear: &[Param::Offset],
+        nonlinear: None,
+    },
+    EffectInfo {
+        name: "load_dependence",
+        meaning: "seal friction grows with chamber pressure (pressure-energised seals)",
+        linear: &[Param::LoadCoefficient],
+        nonlinear: None,
+    },
+    EffectInfo {
+        name: "position_dependence",
+        meaning: "friction changes along the stroke (misalignment, local wear, a bent rod)",
+        linear: &[Param::PositionGradient],
+        nonlinear: None,
+    },
+    EffectInfo {
+        name: "temperature_dependence",
+        meaning: "friction changes as the oil warms (viscous friction falls with viscosity)",
+        linear: &[Param::TempCoulomb],
+        nonlinear: Some((
+            "viscous_per_kelvin",
+            &[-0.02, -0.01, 0.0, 0.005, 0.01, 0.015, 0.02, 0.025, 0.03, 0.04, 0.05],
+            Some(0.0),
+        )),
+    },
+    EffectInfo {
+        name: "stribeck_shape",
+        meaning: "the fall from breakaway to sliding friction is sharper or gentler than the standard Stribeck curve",
+        linear: &[],
+        nonlinear: Some(("exponent", &[0.5, 0.7, 0.9, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0], Some(2.0))),
+    },
+    EffectInfo {
+        name: "viscous_power",
+        meaning: "viscous friction is not proportional to speed (shear-thinning film, turbulent leakage)",
+        linear: &[],
+        nonlinear: Some(("exponent", &[0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5], Some(1.0))),
+    },
+    EffectInfo {
+        name: "dwell_stiction",
+        meaning: "the breakaway force grows with time at rest (junction growth, lubricant squeezed out)",
+        linear: &[Param::DwellIncrease],
+        nonlinear: Some(("time_constant_s", &[0.1, 0.2, 0.5, 1.0, 2.0, 5.0], None)),
+    },
+];
+
+/// Looks an effect up by name.
+pub fn effect_info(name: &str) -> Option<&'static EffectInfo> {
+    EFFECTS.iter().find(|e| e.name == name)
+}
+
+/// Why an effect cannot be tested on this record, if it cannot.
+pub fn missing_channel(name: &str, p: &Prepared) -> Option<String> {
+    match name {
+        "load_dependence" if p.pressure_sum.is_none() => {
+            Some("the record has no chamber pressures (p_a, p_b)".into())
+        }
+        "temperature_dependence" => match &p.temperature {
+            None => Some("the record has no oil temperature (temp)".into()),
+            Some(t) => {
+                let lo = t.iter().cloned().fold(f64::INFINITY, f64::min);
+                let hi = t.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+                (hi - lo < 1.0).then(|| {
+                    format!(
+                        "the oil temperature hardly changes ({:.2} K range)",
+                        hi - lo
+                    )
+                })
+            }
+        },
+        _ => None,
+    }
+}
+
+/// A fitted parameter with its 95 % interval.
+#[derive(Clone, Debug, Serialize)]
+pub struct ParamReport {
+    /// Name with unit.
+    pub name: String,
+    /// Value.
+    pub value: f64,
+    /// Lower 95 % bound.
+    pub ci_low: f64,
+    /// Upper 95 % bound.
+    pub ci_high: f64,
+}
+
+/// One candidate effect, scored.
+#[derive(Clone, Debug, Serialize)]
+pub struct Candidate {
+    /// Effect name.
+    pub effect: String,
+    /// What it means physically.
+    pub meaning: String,
+    /// Error with this effect added to the current model [%] (absent when skipped).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rel_err_pct: Option<f64>,
+    /// Information-criterion gain (higher is better).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub delta_bic: Option<f64>,
+    /// Significant (see the module docs).
+    pub significant: bool,
+    /// Fitted parameters.
+    pub parameters: Vec<ParamReport>,
+    /// Why it was not tested.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub skipped: Option<String>,
+    /// The refitted model (not serialised).
+    #[serde(skip)]
+    pub fit: Option<Fit>,
+}
+
+/// One model along the way (baseline, then one per added effect).
+#[derive(Clone, Debug)]
+pub struct Stage {
+    /// "baseline" or "+ effect".
+    pub label: String,
+    /// The fit.
+    pub fit: Fit,
+    /// Where it fails.
+    pub regimes: RegimeReport,
+    /// What could be added next, best first.
+    pub candidates: Vec<Candidate>,
+}
+
+/// Options of a diagnosis.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// Filter settings.
+    pub protocol: Protocol,
+    /// A model from a parameter file (mass and parameters used as given for the comparison).
+    pub given: Option<AxisModel>,
+    /// Mass fixed by the user [kg].
+    pub mass_kg: Option<f64>,
+    /// Effects to add, in order.
+    pub add: Vec<String>,
+}
+
+/// The whole diagnosis of a record.
+#[derive(Clone, Debug)]
+pub struct Diagnosis {
+    /// The prepared record.
+    pub prepared: Prepared,
+    /// Error of the given model as is [%], when one was given.
+    pub given_rel_err_pct: Option<f64>,
+    /// Baseline, then one stage per added effect.
+    pub stages: Vec<Stage>,
+    /// The error of the simulator's true friction through the same pipeline [%], when the
+    /// record carries it (`true_friction` column and `moving_mass_kg` metadata).
+    pub noise_floor_pct: Option<f64>,
+    /// Effective independent samples used for the scores.
+    pub effective_samples: f64,
+}
+
+impl Diagnosis {
+    /// The final model.
+    pub fn model(&self) -> &AxisModel {
+        &self.stages[self.stages.len() - 1].fit.model
+    }
+}
+
+/// Relative error of the simulator's truth through the inverse-model pipeline: what a
+/// perfect friction model scores on this record (sensor noise, quantisation, derivative error).
+pub fn noise_floor(rec: &Record, p: &Prepared) -> Option<f64> {
+    let truth = rec.extra("true_friction")?;
+    let mass: f64 = rec.meta_value("moving_mass_kg")?.parse().ok()?;
+    let pred: Vec<f64> = p.a.iter().zip(truth).map(|(a, f)| mass * a + f).collect();
+    Some(p.rel_err_pct(&pred))
+}
+
+/// Fits the baseline (symmetric LuGre) to the record.
+pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
+    let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
+    if let Some(g) = &opts.given {
+        let plain = AxisModel {
+            mass_kg: g.mass_kg,
+            friction: FrictionModel::plain(g.friction.params),
+        };
+        return fit::refit(&plain, p, fixed_mass, n_eff);
+    }
+    let seed = AxisModel {
+        mass_kg: 1.0,
+        friction: FrictionModel::plain(
+            LugreParams::new(1.2e8, 0.0, 0.0, 100.0, 120.0, 0.005).unwrap_or_default(),
+        ),
+    };
+    let prelim = fit::refit(&seed, p, fixed_mass, n_eff);
+    let fs = prelim.model.friction.params.static_force();
+    let lengths = [0.2e-6, 2e-6, 20e-6];
+    let log_vs: Vec<f64> = (0..10)
+        .map(|i| (5e-4f64).ln() + i as f64 * (100f64).ln() / 9.0)
+        .collect();
+    let mut best: Option<Fit> = None;
+    for len in lengths {
+        let (_, f, _) = fit::grid_min(&log_vs, |lv| {
+            let m = fit::with_nonlinear(&prelim.model, lv.exp(), fs / len);
+            let f = fit::refit(&m, p, fixed_mass, n_eff);
+            (f.rss, f)
+        });
+        if best.as_ref().is_none_or(|b| f.rss < b.rss) {
+            best = Some(f);
+        }
+    }
+    best.unwrap_or(prelim)
+}
+
+/// Scores every effect not yet in `current`, best first (skipped ones last).
+pub fn rank_candidates(
+    p: &Prepared,
+    current: &Fit,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) -> Vec<Candidate> {
+    let present = |name: &str| {
+        let e = &current.model.friction.effects;
+        match name {
+            "asymmetry" => e.asymmetry.is_some(),
+            "offset" => e.offset.is_some(),
+            "load_dependence" => e.load_dependence.is_some(),
+            "position_dependence" => e.position_dependence.is_some(),
+            "temperature_dependence" => e.temperature_dependence.is_some(),
+            "stribeck_shape" => e.stribeck_shape.is_some(),
+            "viscous_power" => e.viscous_power.is_some(),
+            "dwell_stiction" => e.dwell_stiction.is_some(),
+            _ => true,
+        }
+    };
+    let mut out: Vec<Candidate> = EFFECTS
+        .par_iter()
+        .filter(|e| !present(e.name))
+        .map(|info| score(p, current, info, fixed_mass, n_eff))
+        .collect();
+    out.sort_by(|a, b| {
+        b.delta_bic
+            .unwrap_or(f64::NEG_INFINITY)
+            .total_cmp(&a.delta_bic.unwrap_or(f64::NEG_INFINITY))
+    });
+    out
+}
+
+fn score(
+    p: &Prepared,
+    current: &Fit,
+    info: &EffectInfo,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) -> Candidate {
+    let mut cand = Candidate {
+        effect: info.name.into(),
+        meaning: info.meaning.into(),
+        rel_err_pct: None,
+        delta_bic: None,
+        significant: false,
+        parameters: Vec::new(),
+        skipped: missing_channel(info.name, p),
+        fit: None,
+    };
+    if cand.skipped.is_some() {
+        return cand;
+    }
+    let (fit, nonlinear_ci) = match info.nonlinear {
+        Some((name, grid, null)) => {
+            let (x, f, profile): (f64, Fit, _) = fit::grid_min(grid, |x| {
+                let f = fit::refit(
+                    &fit::add_effect(&current.model, info.name, p, x),
+                    p,
+                    fixed_mass,
+                    n_eff,
+                );
+                (f.rss, f)
+            });
+            let inside: Vec<f64> = profile
+                .iter()
+                .filter(|(_, r)| n_eff * (r / f.rss).ln() <= 3.84)
+                .map(|(x, _)| *x)
+                .collect();
+            let lo = inside.iter().cloned().fold(x, f64::min);
+            let hi = inside.iter().cloned().fold(x, f64::max);
+            // widen to the neighbouring grid points that fell outside: the interval is at
+            // least one grid step wide on each side where the profile was not sampled finer
+            let excludes_null = null.is_some_and(|z| {
+                !inside.iter().any(|v| (*v - z).abs() < 1e-12) && (z < lo || z > hi)
+            });
+            cand.parameters.push(ParamReport {
+                name: name.into(),
+                value: x,
+                ci_low: lo,
+                ci_high: hi,
+            });
+            (f, excludes_null)
+        }
+        None => (
+            fit::refit(
+                &fit::add_effect(&current.model, info.name, p, 0.0),
+                p,
+                fixed_mass,
+                n_eff,
+            ),
+            false,
+        ),
+    };
+    let mut linear_excludes = false;
+    for prm in info.linear {
+        if let Some(e) = fit.estimate(*prm) {
+            let half = 1.96 * e.std_error;
+            linear_excludes |= e.value.abs() > half;
+            cand.parameters.push(ParamReport {
+                name: prm.label().into(),
+                value: e.value,
+                ci_low: e.value - half,
+                ci_high: e.value + half,
+            });
+        }
+    }
+    let k = info.linear.len() + usize::from(info.nonlinear.is_some());
+    let dbic = n_eff * (current.rss / fit.rss).ln() - k as f64 * n_eff.ln();
+    cand.rel_err_pct = Some(fit.rel_err_pct);
+    cand.delta_bic = Some(dbic);
+    cand.significant = dbic > 10.0 && (linear_excludes || nonlinear_ci);
+    cand.fit = Some(fit);
+    cand
+}
+
+/// Runs the whole diagnosis of a record.
+pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, String> {
+    let p = Prepared::new(rec, name, opts.protocol)?;
+    for e in &opts.add {
+        if effect_info(e).is_none() {
+            return Err(format!(
+                "unknown effect '{e}'; known: {}",
+                EFFECTS
+                    .iter()
+                    .map(|e| e.name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        if let Some(why) = missing_channel(e, &p) {
+            return Err(format!("{name}: cannot add '{e}': {why}"));
+        }
+    }
+    let n_eff = fit::effective_samples(&p, opts.protocol.parallel_cutoff_hz);
+    let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
+    let given_rel_err_pct = opts.given.map(|g| p.rel_err_pct(&g.predict(&p)));
+    let base = baseline(&p, opts, n_eff);
+    let mut stages = vec![stage(
+        "baseline (symmetric LuGre)".into(),
+        base,
+        &p,
+        fixed_mass,
+        n_eff,
+    )];
+    for e in &opts.add {
+        let prev = &stages[stages.len() - 1];
+        let fit = prev
+            .candidates
+            .iter()
+            .find(|c| &c.effect == e)
+            .and_then(|c| c.fit.clone())
+            .ok_or_else(|| format!("effect '{e}' is already in the model"))?;
+        stages.push(stage(format!("+ {e}"), fit, &p, fixed_mass, n_eff));
+    }
+    Ok(Diagnosis {
+        noise_floor_pct: noise_floor(rec, &p),
+        prepared: p,
+        given_rel_err_pct,
+        stages,
+        effective_samples: n_eff,
+    })
+}
+
+fn stage(label: String, fit: Fit, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Stage {
+    let regimes = regimes::analyse(
+        p,
+        &fit.model.predict(p),
+        fit.model.friction.params.stribeck_velocity(),
+    );
+    let candidates = rank_candidates(p, &fit, fixed_mass, n_eff);
+    Stage {
+        label,
+        fit,
+        regimes,
+        candidates,
+    }
+}
+
+/// Error of a fitted model on another record (no refit) [%].
+pub fn validate(
+    model: &AxisModel,
+    rec: &Record,
+    name: &str,
+    protocol: Protocol,
+) -> Result<f64, String> {
+    let p = Prepared::new(rec, name, protocol)?;
+    Ok(p.rel_err_pct(&model.predict(&p)))
+}

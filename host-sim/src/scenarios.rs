@@ -1,0 +1,144 @@
+//! Named plant variants: each extra physical effect switched on at a chosen strength, and the
+//! composite experiment used to diagnose them.
+
+use crate::experiments::{Rig, Setpoint, PERIOD_S};
+use crate::plant::{PlantConfig, SensorConfig};
+use crate::record::Record;
+use lugre_servo::friction::effects as fx;
+
+/// Switches effect `name` on in `cfg`; `strength` 1.0 is clearly visible, 0.3 subtle.
+pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> Result<(), String> {
+    let e = &mut cfg.friction.effects;
+    let s = strength;
+    match name {
+        "asymmetry" => {
+            e.asymmetry = Some(fx::Asymmetry {
+                coulomb_ratio: 0.15 * s,
+                viscous_ratio: 0.25 * s,
+            })
+        }
+        "offset" => e.offset = Some(fx::Offset { force: 150.0 * s }),
+        "load_dependence" => {
+            e.load_dependence = Some(fx::LoadDependence {
+                coefficient: 4e-5 * s,
+                reference_pressure_sum: cfg.valve.supply_pressure_pa,
+            })
+        }
+        "position_dependence" => {
+            e.position_dependence = Some(fx::PositionDependence {
+                gradient: 1000.0 * s,
+                center: 0.25,
+            })
+        }
+        "temperature_dependence" => {
+            e.temperature_dependence = Some(fx::TemperatureDependence {
+                viscous_per_kelvin: 0.02 * s,
+                coulomb_per_kelvin: 0.01 * s,
+                reference_temperature: cfg.thermal.initial_c,
+            });
+            // warm the oil by ~15-20 K over a minute (pump and throttling losses)
+            cfg.thermal.heat_capacity_j_per_k = 4_000.0;
+            cfg.thermal.extra_heat_w = 1_200.0;
+        }
+        "stribeck_shape" => {
+            e.stribeck_shape = Some(fx::StribeckShape {
+                exponent: 2.0 - 1.2 * s,
+            })
+        }
+        "viscous_power" => {
+            e.viscous_power = Some(fx::ViscousPower {
+                exponent: 1.0 - 0.4 * s,
+                reference_velocity: 0.02,
+            })
+        }
+        "dwell_stiction" => {
+            e.dwell_stiction = Some(fx::DwellStiction {
+                max_increase: 300.0 * s,
+                time_constant: 1.0,
+                stick_velocity: 2e-4,
+            })
+        }
+        other => {
+            return Err(format!(
+                "unknown effect '{other}'; known: {}",
+                lugre_servo::friction::EFFECT_NAMES.join(", ")
+            ))
+        }
+    }
+    Ok(())
+}
+
+/// A deterministic pseudo-random sequence in [0, 1) (no RNG state needed for a schedule).
+fn unit(i: u64) -> f64 {
+    let mut z = i
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(0x6A09_E667_F3BC_C909);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    (z ^ (z >> 31)) as f64 / u64::MAX as f64
+}
+
+/// The composite commissioning record for diagnosis: point-to-point moves across the stroke
+/// (0.06 .. 0.44 m) at speeds from 1 mm/s to 100 mm/s (log-spread), with dwells from 0.05 s to
+/// 3 s, so that every effect has something to show: both directions, the Stribeck region,
+/// fast sliding, long and short rests, the whole stroke, varying pressures and (with the
+/// temperature effect) warming oil. The schedule is fixed; `sensors.seed` only changes noise.
+pub fn diagnosis_run(cfg: &PlantConfig, sensors: SensorConfig, duration: f64) -> Record {
+    let mut x = 0.25;
+    let mut rig = Rig::new(cfg.clone(), sensors, x);
+    let n = (duration / PERIOD_S).round() as usize;
+    let mut k = 0u64;
+    let accel = 0.5;
+    while rig.plant.state.t < duration - 0.5 * PERIOD_S && rig_len(&rig) < n {
+        let target = 0.06 + 0.38 * unit(3 * k);
+        let speed = 1e-3 * 100f64.powf(unit(3 * k + 1));
+        let dwell = 0.05 * 60f64.powf(unit(3 * k + 2));
+        k += 1;
+        // at most ~2.5 s per move, so slow speeds make short moves
+        let dist = (target - x).clamp(-(speed * 2.5 + 0.002), speed * 2.5 + 0.002);
+        let target = x + dist;
+        let dir = dist.signum();
+        let t_acc = speed / accel;
+        let d_acc = 0.5 * accel * t_acc * t_acc;
+        let (t_acc, peak, t_flat) = if 2.0 * d_acc >= dist.abs() {
+            let ta = (dist.abs() / accel).sqrt();
+            (ta, accel * ta, 0.0)
+        } else {
+            (t_acc, speed, (dist.abs() - 2.0 * d_acc) / speed)
+        };
+        let t_move = 2.0 * t_acc + t_flat;
+        let steps = (t_move / PERIOD_S).ceil() as usize;
+        for i in 0..steps {
+            let s = (i + 1) as f64 * PERIOD_S;
+            let (d, v) = if s < t_acc {
+                (0.5 * accel * s * s, accel * s)
+            } else if s < t_acc + t_flat {
+                (0.5 * accel * t_acc * t_acc + peak * (s - t_acc), peak)
+            } else if s < t_move {
+                let r = t_move - s;
+                (dist.abs() - 0.5 * accel * r * r, accel * r)
+            } else {
+                (dist.abs(), 0.0)
+            };
+            rig.tick(Setpoint::Position {
+                x: x + dir * d,
+                v: dir * v,
+            });
+            if rig_len(&rig) >= n {
+                break;
+            }
+        }
+        x = target;
+        for _ in 0..(dwell / PERIOD_S) as usize {
+            if rig_len(&rig) >= n {
+                break;
+            }
+            rig.tick(Setpoint::Position { x, v: 0.0 });
+        }
+    }
+    rig.finish("diagnosis_run")
+}
+
+fn rig_len(rig: &Rig) -> usize {
+    (rig.plant.state.t / PERIOD_S).round() as usize
+}
