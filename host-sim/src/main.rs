@@ -47,6 +47,9 @@ enum Command {
         /// (comma separated; see `lugre_servo::friction::effects`).
         #[arg(long, value_delimiter = ',')]
         effect: Vec<String>,
+        /// Strength of the switched-on effects (1 = clearly visible, 0.3 = subtle).
+        #[arg(long, default_value_t = 1.0)]
+        strength: f64,
         /// Sensor models.
         #[arg(long, value_enum, default_value = "realistic")]
         noise: Noise,
@@ -127,6 +130,7 @@ fn main() -> ExitCode {
             out,
             params,
             effect,
+            strength,
             noise,
             seed,
             duration,
@@ -135,6 +139,7 @@ fn main() -> ExitCode {
             &out,
             params.as_deref(),
             &effect,
+            strength,
             sensors(noise, seed),
             duration,
         ),
@@ -153,6 +158,7 @@ fn simulate(
     out: &Path,
     params: Option<&Path>,
     effects: &[String],
+    strength: f64,
     sensors: SensorConfig,
     duration: f64,
 ) -> Result<(), String> {
@@ -163,7 +169,7 @@ fn simulate(
         cfg.cylinder.moving_mass_kg = file.axis.moving_mass_kg;
     }
     for e in effects {
-        host_sim::scenarios::with_effect(&mut cfg, e, 1.0)?;
+        host_sim::scenarios::with_effect(&mut cfg, e, strength)?;
     }
     if !(duration.is_finite() && duration > 0.0) {
         return Err("--duration must be a positive number of seconds".into());

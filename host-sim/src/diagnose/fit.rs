@@ -87,8 +87,10 @@ pub struct Estimate {
 pub struct Fit {
     /// The fitted model.
     pub model: AxisModel,
-    /// Relative force error [%].
+    /// Relative force error over the samples where the axis moves [%].
     pub rel_err_pct: f64,
+    /// Relative force error over every sample, stuck ones included [%].
+    pub rel_err_all_pct: f64,
     /// Residual sum of squares of the filtered force [N^2].
     pub rss: f64,
     /// The linear estimates.
@@ -105,7 +107,7 @@ impl Fit {
 /// Effective number of independent samples of a residual band-limited to `B` Hz over `T`
 /// seconds: `2 B T` (capped at the sample count).
 pub fn effective_samples(p: &Prepared, parallel_cutoff_hz: f64) -> f64 {
-    let duration = p.dt * p.len() as f64;
+    let duration = p.dt * p.len() as f64 * p.scored_fraction();
     (2.0 * parallel_cutoff_hz.min(0.1 / p.dt) * duration)
         .min(p.len() as f64)
         .max(10.0)
@@ -118,17 +120,10 @@ pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64
     if let Some(m) = fixed_mass {
         model.mass_kg = m;
     }
-    let score = |m: &AxisModel| {
-        let filtered = p.parallel.filtfilt(&m.predict(p));
-        p.force
-            .iter()
-            .zip(&filtered)
-            .map(|(f, q)| (f - q) * (f - q))
-            .sum::<f64>()
-    };
+    let score = |m: &AxisModel| p.weighted_rss(&m.predict(p));
     // The linearised step can overshoot where two effects are nearly collinear (an offset and
-    // a direction-dependent Coulomb level differ only while stuck): accept an iterate only if
-    // the real model scores better, else halve the step towards the current one.
+    // a direction-dependent Coulomb level differ only while stuck): an iterate is accepted only
+    // if the real model scores better.
     let mut rss = score(&model);
     let mut estimates = Vec::new();
     // Levenberg-Marquardt damping mu (relative to the diagonal of J'J): raised tenfold when
@@ -161,6 +156,7 @@ pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64
         e.value = value_of(&model, e.param);
     }
     Fit {
+        rel_err_all_pct: p.rel_err_all_pct(&model.predict(p)),
         model,
         rel_err_pct: 100.0 * rss.sqrt() / p.force_norm,
         rss,
@@ -260,11 +256,16 @@ fn linear_step(
         let pos_x = e.position_dependence.map_or(0.0, |x| c.position - x.center);
         let shift = e.load_dependence.map_or(0.0, |l| l.coefficient * load_x)
             + e.position_dependence.map_or(0.0, |x| x.gradient * pos_x);
+        // the viscous force is taken at the sample instant (see FrictionModel::step_split)
+        let v_now = p.v[i];
+        let d_now = if v_now >= 0.0 { 1.0 } else { -1.0 };
         let v_term = match e.viscous_power {
             Some(pw) => {
-                d * pw.reference_velocity * (v.abs() / pw.reference_velocity).powf(pw.exponent)
+                d_now
+                    * pw.reference_velocity
+                    * (v_now.abs() / pw.reference_velocity).powf(pw.exponent)
             }
-            None => v,
+            None => v_now,
         };
         let w = e
             .dwell_stiction
@@ -275,9 +276,9 @@ fn linear_step(
                 Param::Mass => p.a[i],
                 Param::Coulomb => tau_c * (1.0 + d * rc) * (1.0 - ex) * s,
                 Param::Static => tau_c * (1.0 + d * rc) * ex * s,
-                Param::Viscous => (1.0 + d * rv) * kv_fac * v_term,
+                Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
                 Param::AsymCoulomb => tau_c * d * level * s,
-                Param::AsymViscous => d * s2 * kv_fac * v_term,
+                Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                 Param::Offset => 1.0,
                 Param::LoadCoefficient => tau_c * load_x * s,
                 Param::PositionGradient => tau_c * pos_x * s,
@@ -314,19 +315,15 @@ fn linear_step(
     let mut xty = DVector::<f64>::zeros(k);
     for a in 0..k {
         for b in a..k {
-            let s: f64 = cols_f[a]
-                .iter()
-                .zip(&cols_f[b])
-                .map(|(u, w)| u * w)
+            let s: f64 = (0..n)
+                .map(|i| p.weight[i] * cols_f[a][i] * cols_f[b][i])
                 .sum::<f64>()
                 / (scale[a] * scale[b]);
             xtx[(a, b)] = s;
             xtx[(b, a)] = s;
         }
-        xty[a] = cols_f[a]
-            .iter()
-            .zip(&target)
-            .map(|(u, w)| u * w)
+        xty[a] = (0..n)
+            .map(|i| p.weight[i] * cols_f[a][i] * target[i])
             .sum::<f64>()
             / scale[a];
     }
@@ -356,11 +353,12 @@ fn linear_step(
     let rss_lin: f64 = (0..n)
         .map(|i| {
             let pred: f64 = (0..k).map(|j| theta[j] * cols_f[j][i]).sum();
-            (target[i] - pred).powi(2)
+            p.weight[i] * (target[i] - pred).powi(2)
         })
         .sum();
-    let sigma2_noise = rss_lin / (n as f64 - k as f64).max(1.0);
-    let inflation = n as f64 / n_eff;
+    let n_scored = p.weight.iter().sum::<f64>();
+    let sigma2_noise = rss_lin / (n_scored - k as f64).max(1.0);
+    let inflation = n_scored / n_eff;
     let estimates: Vec<Estimate> = params
         .iter()
         .enumerate()

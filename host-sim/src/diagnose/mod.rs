@@ -397,6 +397,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
     let n_eff = fit::effective_samples(&p, opts.protocol.parallel_cutoff_hz);
     let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
     let given_rel_err_pct = opts.given.map(|g| p.rel_err_pct(&g.predict(&p)));
+
     let base = baseline(&p, opts, n_eff);
     let mut stages = vec![stage(
         "baseline (symmetric LuGre)".into(),
