@@ -88,6 +88,10 @@ struct DiagnoseArgs {
     /// Writes the final (extended) model as a parameter file.
     #[arg(long)]
     out_params: Option<PathBuf>,
+    /// The true model of a simulated record (`simulate` writes FILE.truth.toml beside the CSV):
+    /// gives the noise floor.
+    #[arg(long)]
+    truth: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -178,6 +182,12 @@ fn simulate(
     rec.write(out)
         .map_err(|e| format!("{}: {e}", out.display()))?;
     println!("wrote {} ({} samples)", out.display(), rec.len());
+    let truth = out.with_extension("truth.toml");
+    let mut file = ParamFile::new(&cfg.friction, cfg.cylinder.moving_mass_kg);
+    file.fit.source = Some("host-sim simulate: the plant's true friction".into());
+    file.write(&truth)
+        .map_err(|e| format!("{}: {e}", truth.display()))?;
+    println!("wrote {} (the plant's true model)", truth.display());
     Ok(())
 }
 

@@ -25,7 +25,7 @@ pub struct JsonOut<'a> {
     pub validation_rel_err_pct: Option<f64>,
     /// The refitted symmetric baseline's error [%].
     pub refit_baseline_rel_err_pct: f64,
-    /// Error of the simulator's truth through the same pipeline [%] (simulated records).
+    /// The true model's error along the measured motion [%] (with --truth).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub noise_floor_pct: Option<f64>,
     /// Error after each stage [%], baseline first.
@@ -55,10 +55,21 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
             ));
         }
     }
+    let truth = match &a.truth {
+        Some(t) => {
+            let (file, model) = ParamFile::read(t)?;
+            Some(AxisModel {
+                mass_kg: file.axis.moving_mass_kg,
+                friction: model,
+            })
+        }
+        None => None,
+    };
     let opts = Options {
         given,
         mass_kg: a.mass,
         add: a.add.clone(),
+        truth,
         ..Default::default()
     };
     let wall = std::time::Instant::now();
@@ -189,7 +200,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
     }
     if let Some(n) = d.noise_floor_pct {
         println!(
-            "\nnoise floor (the simulator's true friction through the same pipeline): {n:.2} %"
+            "\nnoise floor (the true model driven by the measured motion, same pipeline): {n:.2} %"
         );
     }
     if let Some(v) = validation {

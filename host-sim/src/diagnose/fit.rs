@@ -20,7 +20,7 @@
 //! Errors and statistics always come from the real model (the core's exact LuGre step) run
 //! along the motion, not from the linearisation.
 
-use super::inverse::{AxisModel, Prepared};
+use super::inverse::{AxisModel, Prepared, Simulation};
 use lugre_servo::friction::effects as fx;
 use lugre_servo::friction::LugreParams;
 use nalgebra::{DMatrix, DVector};
@@ -120,25 +120,36 @@ pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64
     if let Some(m) = fixed_mass {
         model.mass_kg = m;
     }
-    let score = |m: &AxisModel| p.weighted_rss(&m.predict(p));
+    // score a model: (weighted RSS, its simulation, its prediction)
+    let score = |m: &AxisModel| {
+        let sim = m.simulate(p);
+        let pred: Vec<f64> =
+            p.a.iter()
+                .zip(&sim.friction)
+                .map(|(a, f)| m.mass_kg * a + f)
+                .collect();
+        (p.weighted_rss(&pred), sim, pred)
+    };
     // The linearised step can overshoot where two effects are nearly collinear (an offset and
     // a direction-dependent Coulomb level differ only while stuck): an iterate is accepted only
     // if the real model scores better.
-    let mut rss = score(&model);
+    let (mut rss, mut sim, mut pred) = score(&model);
     let mut estimates = Vec::new();
     // Levenberg-Marquardt damping mu (relative to the diagonal of J'J): raised tenfold when
     // an iterate scores worse, lowered after a success.
     let mut mu = 1e-6;
     for _ in 0..8 {
-        let (next, est) = linear_step(&model, p, fixed_mass, n_eff, mu);
-        let next_rss = score(&next);
+        let (next, est) = linear_step(&model, &sim, p, fixed_mass, n_eff, mu);
+        let (next_rss, next_sim, next_pred) = score(&next);
         if next_rss <= rss {
             let gain = (rss - next_rss) / rss.max(1e-300);
             model = next;
             rss = next_rss;
+            sim = next_sim;
+            pred = next_pred;
             estimates = est;
             mu = (mu / 10.0).max(1e-9);
-            if gain < 1e-6 {
+            if gain < 1e-5 {
                 break;
             }
         } else {
@@ -156,7 +167,7 @@ pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64
         e.value = value_of(&model, e.param);
     }
     Fit {
-        rel_err_all_pct: p.rel_err_all_pct(&model.predict(p)),
+        rel_err_all_pct: p.rel_err_all_pct(&pred),
         model,
         rel_err_pct: 100.0 * rss.sqrt() / p.force_norm,
         rss,
@@ -189,13 +200,13 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
 #[allow(clippy::needless_range_loop)]
 fn linear_step(
     m: &AxisModel,
+    sim: &Simulation,
     p: &Prepared,
     fixed_mass: Option<f64>,
     n_eff: f64,
     mu: f64,
 ) -> (AxisModel, Vec<Estimate>) {
     let n = p.len();
-    let sim = m.simulate(p);
     let fr = &m.friction;
     let e = &fr.effects;
     let (fc, fs, s2) = (

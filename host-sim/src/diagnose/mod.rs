@@ -189,6 +189,8 @@ pub struct Options {
     pub mass_kg: Option<f64>,
     /// Effects to add, in order.
     pub add: Vec<String>,
+    /// The true model of a simulated record (for the noise floor).
+    pub truth: Option<AxisModel>,
 }
 
 /// The whole diagnosis of a record.
@@ -200,8 +202,10 @@ pub struct Diagnosis {
     pub given_rel_err_pct: Option<f64>,
     /// Baseline, then one stage per added effect.
     pub stages: Vec<Stage>,
-    /// The error of the simulator's true friction through the same pipeline [%], when the
-    /// record carries it (`true_friction` column and `moving_mass_kg` metadata).
+    /// Noise floor [%]: the error of the true model (when known, e.g. a simulated record)
+    /// driven by the measured motion through the same pipeline: what a model of perfect
+    /// structure and parameters scores on these measurements (sensor noise, quantisation,
+    /// delay and the derivative error of the inverse model).
     pub noise_floor_pct: Option<f64>,
     /// Effective independent samples used for the scores.
     pub effective_samples: f64,
@@ -212,15 +216,6 @@ impl Diagnosis {
     pub fn model(&self) -> &AxisModel {
         &self.stages[self.stages.len() - 1].fit.model
     }
-}
-
-/// Relative error of the simulator's truth through the inverse-model pipeline: what a
-/// perfect friction model scores on this record (sensor noise, quantisation, derivative error).
-pub fn noise_floor(rec: &Record, p: &Prepared) -> Option<f64> {
-    let truth = rec.extra("true_friction")?;
-    let mass: f64 = rec.meta_value("moving_mass_kg")?.parse().ok()?;
-    let pred: Vec<f64> = p.a.iter().zip(truth).map(|(a, f)| mass * a + f).collect();
-    Some(p.rel_err_pct(&pred))
 }
 
 /// Fits the baseline (symmetric LuGre) to the record.
@@ -257,6 +252,29 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
         }
     }
     best.unwrap_or(prelim)
+}
+
+/// Re-searches the Stribeck velocity and the pre-sliding length of an extended model (the
+/// symmetric baseline's values are biased when an effect was missing).
+pub fn polish(current: &Fit, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
+    let params = &current.model.friction.params;
+    let fs = params.static_force();
+    let len0 = fs / params.bristle_stiffness();
+    let log_vs: Vec<f64> = (0..10)
+        .map(|i| (5e-4f64).ln() + i as f64 * (100f64).ln() / 9.0)
+        .collect();
+    let mut best = current.clone();
+    for len in [len0, 0.1 * len0, 10.0 * len0] {
+        let (_, f, _) = fit::grid_min(&log_vs, |lv| {
+            let m = fit::with_nonlinear(&current.model, lv.exp(), fs / len);
+            let f = fit::refit(&m, p, fixed_mass, n_eff);
+            (f.rss, f)
+        });
+        if f.rss < best.rss {
+            best = f;
+        }
+    }
+    best
 }
 
 /// Scores every effect not yet in `current`, best first (skipped ones last).
@@ -414,10 +432,15 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
             .find(|c| &c.effect == e)
             .and_then(|c| c.fit.clone())
             .ok_or_else(|| format!("effect '{e}' is already in the model"))?;
+        let fit = if opts.given.is_some() {
+            fit
+        } else {
+            polish(&fit, &p, fixed_mass, n_eff)
+        };
         stages.push(stage(format!("+ {e}"), fit, &p, fixed_mass, n_eff));
     }
     Ok(Diagnosis {
-        noise_floor_pct: noise_floor(rec, &p),
+        noise_floor_pct: opts.truth.map(|t| p.rel_err_pct(&t.predict(&p))),
         prepared: p,
         given_rel_err_pct,
         stages,
