@@ -1,3 +1,4 @@
 //! Subcommand implementations.
 
+pub mod demo;
 pub mod diagnose;

@@ -287,6 +287,27 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String, St
         end,
         d.noise_floor_pct.map_or(String::new(), |n| format!(" (noise floor {n:.2} %)"))
     );
+    for w in d.stages.windows(2) {
+        let effect = w[1].label.trim_start_matches("+ ");
+        let meaning = super::effect_info(effect).map_or("", |i| i.meaning);
+        out += &format!(
+            "<p>Added <b>{}</b>: {}. Error {:.2} % &rarr; {:.2} %.</p>",
+            escape(effect),
+            escape(meaning),
+            w[0].fit.rel_err_pct,
+            w[1].fit.rel_err_pct
+        );
+    }
+    if let Some(c) = first.candidates.iter().find(|c| c.significant) {
+        if d.stages.len() == 1 {
+            out += &format!(
+                "<p>Most likely missing effect: <b>{}</b> ({}). Add it with <code>--add {}</code>.</p>",
+                escape(&c.effect),
+                escape(&c.meaning),
+                escape(&c.effect)
+            );
+        }
+    }
     out += "<p>Error = 100 ||F - F_hat|| / ||F|| on the force filtered at 20 Hz, over the samples where the axis moves \
             (while stuck, friction balances whatever force is applied and cannot be predicted from the motion).</p>";
     if let Some(g) = d.given_rel_err_pct {

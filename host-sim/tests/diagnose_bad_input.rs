@@ -1,0 +1,119 @@
+//! Bad input is normal input: clear errors, never a panic.
+
+use host_sim::diagnose::{self, Options};
+use host_sim::record::Record;
+use std::path::Path;
+
+fn record(n: usize, moving: bool) -> Record {
+    let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
+    let x: Vec<f64> = t
+        .iter()
+        .map(|t| if moving { 0.01 * (2.0 * t).sin() } else { 0.1 })
+        .collect();
+    let force = t.iter().map(|t| 100.0 * (2.0 * t).cos()).collect();
+    Record {
+        t,
+        x,
+        force,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn too_short_record_is_refused() {
+    let e = diagnose::diagnose(&record(100, true), "short.csv", &Options::default()).unwrap_err();
+    assert!(e.contains("short.csv") && e.contains("too short"), "{e}");
+}
+
+#[test]
+fn record_without_motion_is_refused() {
+    let e = diagnose::diagnose(&record(5000, false), "still.csv", &Options::default()).unwrap_err();
+    assert!(e.contains("still.csv") && e.contains("no motion"), "{e}");
+}
+
+#[test]
+fn asking_for_a_missing_channel_names_it() {
+    let opts = Options {
+        add: vec!["load_dependence".into()],
+        ..Default::default()
+    };
+    let e = diagnose::diagnose(&record(5000, true), "nopress.csv", &opts).unwrap_err();
+    assert!(e.contains("no chamber pressures"), "{e}");
+    let opts = Options {
+        add: vec!["temperature_dependence".into()],
+        ..Default::default()
+    };
+    let e = diagnose::diagnose(&record(5000, true), "notemp.csv", &opts).unwrap_err();
+    assert!(e.contains("no oil temperature"), "{e}");
+}
+
+#[test]
+fn unknown_effect_lists_the_known_ones() {
+    let opts = Options {
+        add: vec!["gremlins".into()],
+        ..Default::default()
+    };
+    let e = diagnose::diagnose(&record(5000, true), "r.csv", &opts).unwrap_err();
+    assert!(
+        e.contains("unknown effect 'gremlins'") && e.contains("asymmetry"),
+        "{e}"
+    );
+}
+
+#[test]
+fn malformed_csv_reaches_the_user_with_line_and_column() {
+    let e = Record::parse("t,x,force\n0,0,1\n0.001,oops,2\n", Path::new("bad.csv")).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "bad.csv:3:2: column 'x': 'oops' is not a number"
+    );
+}
+
+#[test]
+fn cli_reports_errors_without_panicking() {
+    let exe = env!("CARGO_BIN_EXE_host-sim");
+    let dir = std::env::temp_dir().join(format!("lugre-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.csv");
+    std::fs::write(&bad, "t,x,force\n0,0,1\n0.001,0,NaN\n").unwrap();
+    let out = std::process::Command::new(exe)
+        .args(["diagnose", "--data"])
+        .arg(&bad)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("bad.csv:3:3: column 'force'") && !err.contains("panicked"),
+        "{err}"
+    );
+    let params = dir.join("p.toml");
+    std::fs::write(&params, "[lugre]\nbristle_stiffness_n_per_m = 3.9e9\nbristle_damping_n_s_per_m = 200.0\nviscous_coefficient_n_s_per_m = 48900.0\ncoulomb_force_n = 506.0\nstatic_force_n = 400.0\nstribeck_velocity_m_per_s = 0.005\n[axis]\nmoving_mass_kg = 200.0\n").unwrap();
+    let good = dir.join("good.csv");
+    let rec = record(3000, true);
+    rec.write(&good).unwrap();
+    let out = std::process::Command::new(exe)
+        .args(["diagnose", "--data"])
+        .arg(&good)
+        .arg("--params")
+        .arg(&params)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("p.toml") && err.contains("static_force (Fs)"),
+        "{err}"
+    );
+    std::fs::write(&params, "[lugre]\nbristle_stiffness_n_per_m = \"stiff\"\n").unwrap();
+    let out = std::process::Command::new(exe)
+        .args(["diagnose", "--data"])
+        .arg(&good)
+        .arg("--params")
+        .arg(&params)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("p.toml:2:"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
