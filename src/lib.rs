@@ -20,6 +20,8 @@
 //!
 //! Modules, one concept each:
 //! * [`friction`]: parameters, the LuGre model and its exact zero-order-hold step, extra effects.
+//! * [`identify`]: the two-stage identification costs and the genetic algorithms.
 #![cfg_attr(not(feature = "std"), no_std)]
 
 pub mod friction;
+pub mod identify;

@@ -116,6 +116,22 @@ pub fn effective_samples(p: &Prepared, parallel_cutoff_hz: f64) -> f64 {
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
 /// `fixed_mass` keeps M as given.
 pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
+    refit_iterations(seed, p, fixed_mass, n_eff, 8)
+}
+
+/// A cheaper refit for grid searches (at most 3 Levenberg-Marquardt iterations: enough to
+/// rank grid points; the winner is then finished with [`refit`]).
+pub fn refit_quick(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
+    refit_iterations(seed, p, fixed_mass, n_eff, 3)
+}
+
+fn refit_iterations(
+    seed: &AxisModel,
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+    iterations: usize,
+) -> Fit {
     let mut model = *seed;
     if let Some(m) = fixed_mass {
         model.mass_kg = m;
@@ -128,7 +144,8 @@ pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64
                 .zip(&sim.friction)
                 .map(|(a, f)| m.mass_kg * a + f)
                 .collect();
-        (p.weighted_rss(&pred), sim, pred)
+        let filtered = p.parallel.filtfilt(&pred);
+        (p.weighted_rss_filtered(&filtered), sim, filtered)
     };
     // The linearised step can overshoot where two effects are nearly collinear (an offset and
     // a direction-dependent Coulomb level differ only while stuck): an iterate is accepted only
@@ -138,7 +155,7 @@ pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64
     // Levenberg-Marquardt damping mu (relative to the diagonal of J'J): raised tenfold when
     // an iterate scores worse, lowered after a success.
     let mut mu = 1e-6;
-    for _ in 0..8 {
+    for _ in 0..iterations {
         let (next, est) = linear_step(&model, &sim, p, fixed_mass, n_eff, mu);
         let (next_rss, next_sim, next_pred) = score(&next);
         if next_rss <= rss {
@@ -167,7 +184,7 @@ pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64
         e.value = value_of(&model, e.param);
     }
     Fit {
-        rel_err_all_pct: p.rel_err_all_pct(&pred),
+        rel_err_all_pct: p.rel_err_all_pct_filtered(&pred),
         model,
         rel_err_pct: 100.0 * rss.sqrt() / p.force_norm,
         rss,
@@ -251,7 +268,12 @@ fn linear_step(
         let d = if v >= 0.0 { 1.0 } else { -1.0 };
         let s = sim.bristle[i];
         let c = p.conditions(i, &reference);
-        let ex = (-(v / vs).abs().powf(shape)).exp();
+        let r = (v / vs).abs();
+        let ex = if shape == 2.0 {
+            (-(r * r)).exp()
+        } else {
+            (-r.powf(shape)).exp()
+        };
         let d_t = e
             .temperature_dependence
             .map_or(0.0, |t| c.temperature - t.reference_temperature);
@@ -309,9 +331,12 @@ fn linear_step(
             model0 - j_theta0
         })
         .collect();
-    let offset_f = p.parallel.filtfilt(&offset_part);
+    let mut all: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+    all.push(&offset_part);
+    let mut filtered = p.parallel.filtfilt_many(&all);
+    let offset_f = filtered.pop().unwrap_or_default();
+    let cols_f = filtered;
     let target: Vec<f64> = p.force.iter().zip(&offset_f).map(|(f, q)| f - q).collect();
-    let cols_f: Vec<Vec<f64>> = cols.iter().map(|c| p.parallel.filtfilt(c)).collect();
 
     // Scaled normal equations, solved by SVD (robust to a column that carries nothing).
     let scale: Vec<f64> = cols_f
@@ -327,15 +352,19 @@ fn linear_step(
     for a in 0..k {
         for b in a..k {
             let s: f64 = (0..n)
+                .step_by(LS_STRIDE)
                 .map(|i| p.weight[i] * cols_f[a][i] * cols_f[b][i])
                 .sum::<f64>()
+                * LS_STRIDE as f64
                 / (scale[a] * scale[b]);
             xtx[(a, b)] = s;
             xtx[(b, a)] = s;
         }
         xty[a] = (0..n)
+            .step_by(LS_STRIDE)
             .map(|i| p.weight[i] * cols_f[a][i] * target[i])
             .sum::<f64>()
+            * LS_STRIDE as f64
             / scale[a];
     }
     // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space)
@@ -538,6 +567,10 @@ pub fn add_effect(m: &AxisModel, effect: &str, p: &Prepared, nonlinear: f64) -> 
     }
     out
 }
+
+/// The normal equations use every 4th sample: the columns are low-passed at 20 Hz, so 250
+/// samples per second still over-sample them six times (sums are scaled back to the full count).
+const LS_STRIDE: usize = 4;
 
 /// Reference velocity of the fitted viscous power law [m/s].
 pub const VISCOUS_REFERENCE_VELOCITY: f64 = 0.02;

@@ -181,13 +181,29 @@ impl Prepared {
 
     /// Residual sum of squares over the scored samples [N^2].
     pub fn weighted_rss(&self, predicted: &[f64]) -> f64 {
-        let p = self.parallel.filtfilt(predicted);
+        self.weighted_rss_filtered(&self.parallel.filtfilt(predicted))
+    }
+
+    /// [`Self::weighted_rss`] of an already filtered prediction.
+    pub fn weighted_rss_filtered(&self, filtered: &[f64]) -> f64 {
         self.force
             .iter()
-            .zip(&p)
+            .zip(filtered)
             .zip(&self.weight)
             .map(|((f, q), w)| w * (f - q) * (f - q))
             .sum()
+    }
+
+    /// [`Self::rel_err_all_pct`] of an already filtered prediction.
+    pub fn rel_err_all_pct_filtered(&self, filtered: &[f64]) -> f64 {
+        let r = self
+            .force
+            .iter()
+            .zip(filtered)
+            .map(|(f, q)| (f - q) * (f - q))
+            .sum::<f64>()
+            .sqrt();
+        100.0 * r / self.force_norm_all
     }
 
     /// Fraction of samples scored.

@@ -163,6 +163,9 @@ pub struct Candidate {
     /// The refitted model (not serialised).
     #[serde(skip)]
     pub fit: Option<Fit>,
+    /// The profile interval of the nonlinear parameter excludes its "no effect" value.
+    #[serde(skip)]
+    pub nonlinear_excludes_null: bool,
 }
 
 /// One model along the way (baseline, then one per added effect).
@@ -237,16 +240,17 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
     let prelim = fit::refit(&seed, p, fixed_mass, n_eff);
     let fs = prelim.model.friction.params.static_force();
     let lengths = [0.2e-6, 2e-6, 20e-6];
-    let log_vs: Vec<f64> = (0..10)
-        .map(|i| (5e-4f64).ln() + i as f64 * (100f64).ln() / 9.0)
+    let log_vs: Vec<f64> = (0..8)
+        .map(|i| (5e-4f64).ln() + i as f64 * (100f64).ln() / 7.0)
         .collect();
     let mut best: Option<Fit> = None;
     for len in lengths {
         let (_, f, _) = fit::grid_min(&log_vs, |lv| {
             let m = fit::with_nonlinear(&prelim.model, lv.exp(), fs / len);
-            let f = fit::refit(&m, p, fixed_mass, n_eff);
+            let f = fit::refit_quick(&m, p, fixed_mass, n_eff);
             (f.rss, f)
         });
+        let f = fit::refit(&f.model, p, fixed_mass, n_eff);
         if best.as_ref().is_none_or(|b| f.rss < b.rss) {
             best = Some(f);
         }
@@ -254,24 +258,54 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
     best.unwrap_or(prelim)
 }
 
-/// Re-searches the Stribeck velocity and the pre-sliding length of an extended model (the
-/// symmetric baseline's values are biased when an effect was missing).
-pub fn polish(current: &Fit, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
-    let params = &current.model.friction.params;
-    let fs = params.static_force();
-    let len0 = fs / params.bristle_stiffness();
-    let log_vs: Vec<f64> = (0..10)
-        .map(|i| (5e-4f64).ln() + i as f64 * (100f64).ln() / 9.0)
-        .collect();
+/// Re-searches the nonlinear parameters of an extended model: the Stribeck velocity (and,
+/// with `lengths`, the pre-sliding length), then the added effect's own nonlinear parameter,
+/// alternating `rounds` times. The symmetric baseline's values are biased when an effect was
+/// missing (it bends its Stribeck curve to mimic the effect), so an effect is only judged
+/// fairly once they have moved.
+pub fn polish(
+    current: &Fit,
+    effect: Option<&str>,
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+    rounds: usize,
+    lengths: bool,
+) -> Fit {
     let mut best = current.clone();
-    for len in [len0, 0.1 * len0, 10.0 * len0] {
-        let (_, f, _) = fit::grid_min(&log_vs, |lv| {
-            let m = fit::with_nonlinear(&current.model, lv.exp(), fs / len);
-            let f = fit::refit(&m, p, fixed_mass, n_eff);
-            (f.rss, f)
-        });
-        if f.rss < best.rss {
-            best = f;
+    let grid = effect.and_then(effect_info).and_then(|i| i.nonlinear);
+    for _ in 0..rounds {
+        let params = best.model.friction.params;
+        let fs = params.static_force();
+        let len0 = fs / params.bristle_stiffness();
+        let vs0 = params.stribeck_velocity().ln();
+        let log_vs: Vec<f64> = [-0.8, -0.4, 0.0, 0.4, 0.8]
+            .iter()
+            .map(|d| vs0 + d)
+            .collect();
+        let lens: &[f64] = if lengths { &[1.0, 0.1, 10.0] } else { &[1.0] };
+        for &scale in lens {
+            let base = best.model;
+            let (_, f, _) = fit::grid_min(&log_vs, |lv| {
+                let m = fit::with_nonlinear(&base, lv.exp(), fs / (len0 * scale));
+                let f = fit::refit_quick(&m, p, fixed_mass, n_eff);
+                (f.rss, f)
+            });
+            let f = fit::refit(&f.model, p, fixed_mass, n_eff);
+            if f.rss < best.rss {
+                best = f;
+            }
+        }
+        if let (Some(name), Some((_, values, _))) = (effect, grid) {
+            let base = best.model;
+            let (_, f, _) = fit::grid_min(values, |x| {
+                let f = fit::refit_quick(&fit::add_effect(&base, name, p, x), p, fixed_mass, n_eff);
+                (f.rss, f)
+            });
+            let f = fit::refit(&f.model, p, fixed_mass, n_eff);
+            if f.rss < best.rss {
+                best = f;
+            }
         }
     }
     best
@@ -303,11 +337,38 @@ pub fn rank_candidates(
         .filter(|e| !present(e.name))
         .map(|info| score(p, current, info, fixed_mass, n_eff))
         .collect();
-    out.sort_by(|a, b| {
+    let by_bic = |a: &Candidate, b: &Candidate| {
         b.delta_bic
             .unwrap_or(f64::NEG_INFINITY)
             .total_cmp(&a.delta_bic.unwrap_or(f64::NEG_INFINITY))
-    });
+    };
+    out.sort_by(by_bic);
+    // Second stage: the leading candidates are judged again after their nonlinear parameters
+    // and the Stribeck velocity have moved (see `polish`); a missing effect biases the
+    // current model's vs, which can otherwise hand the lead to an effect that merely bends
+    // the Stribeck curve back.
+    let leaders: Vec<usize> = (0..out.len())
+        .filter(|&i| out[i].fit.is_some())
+        .take(3)
+        .collect();
+    let polished: Vec<(usize, Fit)> = leaders
+        .par_iter()
+        .filter_map(|&i| {
+            let f = out[i].fit.as_ref()?;
+            Some((
+                i,
+                polish(f, Some(&out[i].effect), p, fixed_mass, n_eff, 1, false),
+            ))
+        })
+        .collect();
+    for (i, f) in polished {
+        let better = f.rss < out[i].fit.as_ref().map_or(f64::INFINITY, |g| g.rss);
+        if let (Some(info), true) = (effect_info(&out[i].effect), better) {
+            let (params, nl) = (out[i].parameters.clone(), out[i].nonlinear_excludes_null);
+            out[i] = judge(current, info, f, params, nl, n_eff);
+        }
+    }
+    out.sort_by(by_bic);
     out
 }
 
@@ -327,6 +388,7 @@ fn score(
         parameters: Vec::new(),
         skipped: missing_channel(info.name, p),
         fit: None,
+        nonlinear_excludes_null: false,
     };
     if cand.skipped.is_some() {
         return cand;
@@ -334,7 +396,7 @@ fn score(
     let (fit, nonlinear_ci) = match info.nonlinear {
         Some((name, grid, null)) => {
             let (x, f, profile): (f64, Fit, _) = fit::grid_min(grid, |x| {
-                let f = fit::refit(
+                let f = fit::refit_quick(
                     &fit::add_effect(&current.model, info.name, p, x),
                     p,
                     fixed_mass,
@@ -342,15 +404,19 @@ fn score(
                 );
                 (f.rss, f)
             });
+            // the profile interval from the grid's own (quick) residuals
+            let r_min = profile
+                .iter()
+                .map(|(_, r)| *r)
+                .fold(f64::INFINITY, f64::min);
+            let f = fit::refit(&f.model, p, fixed_mass, n_eff);
             let inside: Vec<f64> = profile
                 .iter()
-                .filter(|(_, r)| n_eff * (r / f.rss).ln() <= 3.84)
+                .filter(|(_, r)| n_eff * (r / r_min).ln() <= 3.84)
                 .map(|(x, _)| *x)
                 .collect();
             let lo = inside.iter().cloned().fold(x, f64::min);
             let hi = inside.iter().cloned().fold(x, f64::max);
-            // widen to the neighbouring grid points that fell outside: the interval is at
-            // least one grid step wide on each side where the profile was not sampled finer
             let excludes_null = null.is_some_and(|z| {
                 !inside.iter().any(|v| (*v - z).abs() < 1e-12) && (z < lo || z > hi)
             });
@@ -372,12 +438,45 @@ fn score(
             false,
         ),
     };
+    judge(
+        current,
+        info,
+        fit,
+        cand.parameters.clone(),
+        nonlinear_ci,
+        n_eff,
+    )
+}
+
+/// Scores a refitted candidate against the current model: dBIC, significance, parameters.
+/// `parameters` holds the nonlinear parameter's report (from its grid profile), if any.
+fn judge(
+    current: &Fit,
+    info: &EffectInfo,
+    fit: Fit,
+    parameters: Vec<ParamReport>,
+    nonlinear_excludes_null: bool,
+    n_eff: f64,
+) -> Candidate {
+    let mut parameters: Vec<ParamReport> = parameters
+        .into_iter()
+        .filter(|q| info.nonlinear.is_some_and(|(n, _, _)| n == q.name))
+        .collect();
+    if let (Some(v), Some(q)) = (
+        nonlinear_value(&fit.model, info.name),
+        parameters.first_mut(),
+    ) {
+        // report the value the fit ended at (a polish may have moved it)
+        q.value = v;
+        q.ci_low = q.ci_low.min(v);
+        q.ci_high = q.ci_high.max(v);
+    }
     let mut linear_excludes = false;
     for prm in info.linear {
         if let Some(e) = fit.estimate(*prm) {
             let half = 1.96 * e.std_error;
             linear_excludes |= e.value.abs() > half;
-            cand.parameters.push(ParamReport {
+            parameters.push(ParamReport {
                 name: prm.label().into(),
                 value: e.value,
                 ci_low: e.value - half,
@@ -387,11 +486,29 @@ fn score(
     }
     let k = info.linear.len() + usize::from(info.nonlinear.is_some());
     let dbic = n_eff * (current.rss / fit.rss).ln() - k as f64 * n_eff.ln();
-    cand.rel_err_pct = Some(fit.rel_err_pct);
-    cand.delta_bic = Some(dbic);
-    cand.significant = dbic > 10.0 && (linear_excludes || nonlinear_ci);
-    cand.fit = Some(fit);
-    cand
+    Candidate {
+        effect: info.name.into(),
+        meaning: info.meaning.into(),
+        rel_err_pct: Some(fit.rel_err_pct),
+        delta_bic: Some(dbic),
+        significant: dbic > 10.0 && (linear_excludes || nonlinear_excludes_null),
+        parameters,
+        skipped: None,
+        fit: Some(fit),
+        nonlinear_excludes_null,
+    }
+}
+
+/// The nonlinear parameter of an effect in a model.
+fn nonlinear_value(m: &AxisModel, effect: &str) -> Option<f64> {
+    let e = &m.friction.effects;
+    match effect {
+        "temperature_dependence" => e.temperature_dependence.map(|t| t.viscous_per_kelvin),
+        "stribeck_shape" => e.stribeck_shape.map(|s| s.exponent),
+        "viscous_power" => e.viscous_power.map(|v| v.exponent),
+        "dwell_stiction" => e.dwell_stiction.map(|d| d.time_constant),
+        _ => None,
+    }
 }
 
 /// Runs the whole diagnosis of a record.
@@ -435,7 +552,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
         let fit = if opts.given.is_some() {
             fit
         } else {
-            polish(&fit, &p, fixed_mass, n_eff)
+            polish(&fit, Some(e), &p, fixed_mass, n_eff, 2, true)
         };
         stages.push(stage(format!("+ {e}"), fit, &p, fixed_mass, n_eff));
     }

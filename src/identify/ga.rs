@@ -1,0 +1,489 @@
+//! A real-coded genetic algorithm on the unit cube `[0, 1]^N`, heap-free (population of `P`
+//! individuals in arrays), deterministic for a given random generator, driven ask/tell:
+//!
+//! ```text
+//! let mut ga = Ga::<N, P>::new(config, &mut rng);
+//! while !ga.done() {
+//!     let costs = evaluate(ga.population());   // the caller: a loop, or rayon on the host
+//!     ga.tell(&costs, &mut rng);               // selection, crossover, mutation
+//! }
+//! ```
+//!
+//! Common machinery: elitism (the best individual survives unchanged), binary tournament
+//! selection, arithmetic crossover `c = l a + (1 - l) b` with `l ~ U(-0.25, 1.25)` (blend
+//! crossover, BLX-0.25), genes clamped to the search box. The three strategies differ only in
+//! how they set the crossover probability `Pc`, the mutation probability `Pm` and the mutation
+//! itself:
+//!
+//! * **Traditional**: fixed `Pc` and `Pm` (per gene), mutation = uniform reset of the gene.
+//! * **Adaptive** (Srinivas and Patnaik 1994) on `L = log10(cost)` (costs span many decades,
+//!   so the log makes "better than average" meaningful):
+//!   `Pc = k1 (L' - L_min) / (L_avg - L_min)` if the better parent has `L' <= L_avg`, else 1;
+//!   `Pm = k2 (L - L_min) / (L_avg - L_min)` if `L <= L_avg`, else 0.5 (per individual);
+//!   mutation = Gaussian on every gene with a non-uniform (decaying) scale
+//!   `sigma = 0.1 max(1 - g / m, 0.05)`, as usual for real-coded GAs.
+//! * **Improved adaptive** (our reading of the paper's two modules, `k1, k2, gamma, alpha,
+//!   beta, m` as in Table 1):
+//!   - *adaptive evolution module* (first `m / 2` generations): the population's
+//!     concentration `kappa = alpha (1 - D / D0) + beta S` combines the gene spread `D` (mean
+//!     per-gene standard deviation, `D0` that of a uniform population, `1/sqrt(12)`) and the
+//!     cost similarity `S = exp(-std(L))`. If `kappa > 1 - gamma` the population has gathered
+//!     before the search is done: the *diversification* process runs (mutation for every
+//!     non-elite individual with `sigma = 0.2`, and the worst `gamma P` replaced by random
+//!     immigrants). Otherwise the *exploitation* process runs the adaptive strategy above.
+//!   - *optimal-solution accuracy module* (last `m / 2` generations): the search box shrinks
+//!     around the best individual, half-width `w = gamma (1e-6 / gamma)^((g - m/2) / (m/2))`
+//!     (0.1 of the range down to 1e-6); half the offspring are `best + N(0, (w/2)^2)`, the
+//!     other half come from crossover and mutation (`sigma = w / 2`) inside the box.
+
+use rand_core::RngCore;
+
+/// Which strategy drives the probabilities.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Strategy {
+    /// Fixed crossover and mutation probabilities.
+    Traditional,
+    /// Srinivas-Patnaik adaptive probabilities.
+    Adaptive,
+    /// Adaptive evolution module plus optimal-solution accuracy module.
+    Improved,
+}
+
+/// GA settings (defaults: Table 1 of the paper).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GaConfig {
+    /// Strategy.
+    pub strategy: Strategy,
+    /// Traditional: crossover probability per pair.
+    pub crossover_probability: f64,
+    /// Traditional: mutation probability per gene.
+    pub mutation_probability: f64,
+    /// Crossover coefficient k1.
+    pub k1: f64,
+    /// Mutation coefficient k2.
+    pub k2: f64,
+    /// Starting coefficient gamma.
+    pub gamma: f64,
+    /// Starting coefficient alpha.
+    pub alpha: f64,
+    /// Constant beta.
+    pub beta: f64,
+    /// Number of generations m.
+    pub generations: usize,
+}
+
+impl GaConfig {
+    /// Table 1 settings with the given strategy.
+    pub const fn table1(strategy: Strategy) -> Self {
+        Self {
+            strategy,
+            crossover_probability: 0.8,
+            mutation_probability: 0.05,
+            k1: 0.8,
+            k2: 0.7,
+            gamma: 0.1,
+            alpha: 0.6,
+            beta: 0.4,
+            generations: 500,
+        }
+    }
+}
+
+/// Which process the improved strategy ran last (for tests and reports).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Process {
+    /// Adaptive probabilities, exploiting.
+    Exploit,
+    /// Population gathered too early: diversify.
+    Diversify,
+    /// Late stage: search range shrunk around the best.
+    Refine,
+}
+
+/// The genetic algorithm state: `P` individuals of `N` genes.
+#[derive(Clone, Debug)]
+pub struct Ga<const N: usize, const P: usize> {
+    config: GaConfig,
+    pop: [[f64; N]; P],
+    generation: usize,
+    best: [f64; N],
+    best_cost: f64,
+    last_process: Process,
+}
+
+/// Uniform in [0, 1).
+fn uniform<R: RngCore>(rng: &mut R) -> f64 {
+    (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// Standard normal (Box-Muller).
+fn normal<R: RngCore>(rng: &mut R) -> f64 {
+    let u1 = uniform(rng).max(1e-300);
+    let u2 = uniform(rng);
+    libm::sqrt(-2.0 * libm::log(u1)) * libm::cos(2.0 * core::f64::consts::PI * u2)
+}
+
+fn below<R: RngCore>(rng: &mut R, n: usize) -> usize {
+    ((uniform(rng) * n as f64) as usize).min(n.saturating_sub(1))
+}
+
+impl<const N: usize, const P: usize> Ga<N, P> {
+    /// A uniformly random first population.
+    pub fn new<R: RngCore>(config: GaConfig, rng: &mut R) -> Self {
+        let mut pop = [[0.0; N]; P];
+        for ind in pop.iter_mut() {
+            for g in ind.iter_mut() {
+                *g = uniform(rng);
+            }
+        }
+        Self {
+            config,
+            best: pop[0],
+            pop,
+            generation: 0,
+            best_cost: f64::INFINITY,
+            last_process: Process::Exploit,
+        }
+    }
+
+    /// The individuals to evaluate (genes in [0, 1]).
+    pub fn population(&self) -> &[[f64; N]; P] {
+        &self.pop
+    }
+
+    /// Generations completed.
+    pub fn generation(&self) -> usize {
+        self.generation
+    }
+
+    /// True after `m` generations.
+    pub fn done(&self) -> bool {
+        self.generation >= self.config.generations
+    }
+
+    /// Best individual seen so far and its cost.
+    pub fn best(&self) -> (&[f64; N], f64) {
+        (&self.best, self.best_cost)
+    }
+
+    /// The process the improved strategy chose last.
+    pub fn last_process(&self) -> Process {
+        self.last_process
+    }
+
+    /// Takes the costs of [`Self::population`] (lower is better; NaN counts as worst) and
+    /// breeds the next generation.
+    pub fn tell<R: RngCore>(&mut self, costs: &[f64; P], rng: &mut R) {
+        let mut c = [0.0; P];
+        for i in 0..P {
+            c[i] = if costs[i].is_nan() {
+                f64::MAX
+            } else {
+                costs[i]
+            };
+        }
+        let mut ib = 0;
+        for i in 1..P {
+            if c[i] < c[ib] {
+                ib = i;
+            }
+        }
+        if c[ib] < self.best_cost {
+            self.best_cost = c[ib];
+            self.best = self.pop[ib];
+        }
+        // log-costs for the adaptive rules
+        let mut l = [0.0; P];
+        for i in 0..P {
+            l[i] = libm::log10(c[i].max(1e-300));
+        }
+        let l_min = l.iter().cloned().fold(f64::INFINITY, f64::min);
+        let l_avg = l.iter().sum::<f64>() / P as f64;
+        let l_std = libm::sqrt(l.iter().map(|x| (x - l_avg) * (x - l_avg)).sum::<f64>() / P as f64);
+
+        let g = self.generation as f64;
+        let m = self.config.generations.max(2) as f64;
+        let late = self.config.strategy == Strategy::Improved && g >= m / 2.0;
+        let process = match self.config.strategy {
+            Strategy::Improved if late => Process::Refine,
+            Strategy::Improved => {
+                let d = self.spread();
+                let d0 = 1.0 / libm::sqrt(12.0);
+                let kappa = self.config.alpha * (1.0 - d / d0).max(0.0)
+                    + self.config.beta * libm::exp(-l_std);
+                if kappa > 1.0 - self.config.gamma {
+                    Process::Diversify
+                } else {
+                    Process::Exploit
+                }
+            }
+            _ => Process::Exploit,
+        };
+        self.last_process = process;
+        let w = self.config.gamma
+            * libm::pow(
+                1e-6 / self.config.gamma,
+                ((g - m / 2.0) / (m / 2.0)).clamp(0.0, 1.0),
+            );
+        let (lo, hi) = if late {
+            let mut lo = [0.0; N];
+            let mut hi = [1.0; N];
+            for k in 0..N {
+                lo[k] = (self.best[k] - w).max(0.0);
+                hi[k] = (self.best[k] + w).min(1.0);
+            }
+            (lo, hi)
+        } else {
+            ([0.0; N], [1.0; N])
+        };
+
+        let adapt = |x: f64, high: f64, k: f64| {
+            if l_avg - l_min <= 0.0 {
+                high
+            } else if x <= l_avg {
+                k * (x - l_min) / (l_avg - l_min)
+            } else {
+                high
+            }
+        };
+        let mut next = [[0.0; N]; P];
+        next[0] = self.best;
+        let mut i = 1;
+        while i < P {
+            let a = self.tournament(&c, rng);
+            let b = self.tournament(&c, rng);
+            let (mut x, mut y) = (self.pop[a], self.pop[b]);
+            if late && i % 2 == 1 {
+                // half of the late-stage offspring: Gaussian around the best
+                for k in 0..N {
+                    x[k] = self.best[k] + 0.5 * w * normal(rng);
+                }
+                next[i] = clamp(&x, &lo, &hi);
+                i += 1;
+                continue;
+            }
+            let pc = match self.config.strategy {
+                Strategy::Traditional => self.config.crossover_probability,
+                _ => adapt(l[a].min(l[b]), 1.0, self.config.k1),
+            };
+            if uniform(rng) < pc {
+                for k in 0..N {
+                    let t = -0.25 + 1.5 * uniform(rng);
+                    let (u, v) = (x[k], y[k]);
+                    x[k] = t * u + (1.0 - t) * v;
+                    y[k] = t * v + (1.0 - t) * u;
+                }
+            }
+            for (child, parent) in [(&mut x, a), (&mut y, b)] {
+                match self.config.strategy {
+                    Strategy::Traditional => {
+                        for gk in child.iter_mut() {
+                            if uniform(rng) < self.config.mutation_probability {
+                                *gk = uniform(rng);
+                            }
+                        }
+                    }
+                    _ => {
+                        let (pm, sigma) = match process {
+                            Process::Diversify => (1.0, 0.2),
+                            Process::Refine => (adapt(l[parent], 0.5, self.config.k2), 0.5 * w),
+                            Process::Exploit => (
+                                adapt(l[parent], 0.5, self.config.k2),
+                                0.1 * (1.0 - g / m).max(0.05),
+                            ),
+                        };
+                        if uniform(rng) < pm {
+                            for gk in child.iter_mut() {
+                                *gk += sigma * normal(rng);
+                            }
+                        }
+                    }
+                }
+            }
+            next[i] = clamp(&x, &lo, &hi);
+            i += 1;
+            if i < P {
+                next[i] = clamp(&y, &lo, &hi);
+                i += 1;
+            }
+        }
+        if process == Process::Diversify {
+            // random immigrants replace the worst gamma P (never the elite in slot 0)
+            let n_imm = ((self.config.gamma * P as f64) as usize).max(1).min(P - 1);
+            for slot in next.iter_mut().skip(P - n_imm) {
+                for gk in slot.iter_mut() {
+                    *gk = uniform(rng);
+                }
+            }
+        }
+        self.pop = next;
+        self.generation += 1;
+    }
+
+    fn tournament<R: RngCore>(&self, c: &[f64; P], rng: &mut R) -> usize {
+        let a = below(rng, P);
+        let b = below(rng, P);
+        if c[a] <= c[b] {
+            a
+        } else {
+            b
+        }
+    }
+
+    /// Mean per-gene standard deviation of the population.
+    fn spread(&self) -> f64 {
+        let mut total = 0.0;
+        for k in 0..N {
+            let mean = self.pop.iter().map(|x| x[k]).sum::<f64>() / P as f64;
+            let var = self
+                .pop
+                .iter()
+                .map(|x| (x[k] - mean) * (x[k] - mean))
+                .sum::<f64>()
+                / P as f64;
+            total += libm::sqrt(var);
+        }
+        total / N.max(1) as f64
+    }
+}
+
+fn clamp<const N: usize>(x: &[f64; N], lo: &[f64; N], hi: &[f64; N]) -> [f64; N] {
+    let mut out = *x;
+    for k in 0..N {
+        let v = if out[k].is_finite() {
+            out[k]
+        } else {
+            0.5 * (lo[k] + hi[k])
+        };
+        out[k] = v.clamp(lo[k], hi[k]);
+    }
+    out
+}
+
+/// Runs a GA to completion on a cost function evaluated in a plain loop (the no_std path).
+pub fn minimize<const N: usize, const P: usize, R: RngCore, F: FnMut(&[f64; N]) -> f64>(
+    config: GaConfig,
+    rng: &mut R,
+    mut cost: F,
+) -> ([f64; N], f64) {
+    let mut ga = Ga::<N, P>::new(config, rng);
+    let mut costs = [0.0; P];
+    while !ga.done() {
+        for (c, ind) in costs.iter_mut().zip(ga.population().iter()) {
+            *c = cost(ind);
+        }
+        ga.tell(&costs, rng);
+    }
+    let (b, c) = ga.best();
+    (*b, c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// SplitMix64: a tiny deterministic generator for the tests.
+    struct Mix(u64);
+    impl RngCore for Mix {
+        fn next_u32(&mut self) -> u32 {
+            (self.next_u64() >> 32) as u32
+        }
+        fn next_u64(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        fn fill_bytes(&mut self, dest: &mut [u8]) {
+            for b in dest.iter_mut() {
+                *b = self.next_u32() as u8;
+            }
+        }
+        fn try_fill_bytes(&mut self, dest: &mut [u8]) -> Result<(), rand_core::Error> {
+            self.fill_bytes(dest);
+            Ok(())
+        }
+    }
+
+    const OPT: [f64; 4] = [0.3, 0.71, 0.12, 0.9];
+
+    fn shifted_sphere(x: &[f64; 4]) -> f64 {
+        x.iter()
+            .zip(OPT.iter())
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum()
+    }
+
+    /// Rosenbrock on [-2, 2]^2 mapped to the unit square: optimum at (0.75, 0.75).
+    fn rosen(x: &[f64; 2]) -> f64 {
+        let (a, b) = (4.0 * x[0] - 2.0, 4.0 * x[1] - 2.0);
+        (1.0 - a) * (1.0 - a) + 100.0 * (b - a * a) * (b - a * a)
+    }
+
+    #[test]
+    fn every_strategy_finds_the_sphere_optimum() {
+        // precision differs by design: only the improved strategy refines around the best
+        for (strategy, tol) in [
+            (Strategy::Traditional, 2e-2),
+            (Strategy::Adaptive, 2e-2),
+            (Strategy::Improved, 1e-5),
+        ] {
+            let (best, _) =
+                minimize::<4, 40, _, _>(GaConfig::table1(strategy), &mut Mix(7), shifted_sphere);
+            for k in 0..4 {
+                assert!(
+                    (best[k] - OPT[k]).abs() < tol,
+                    "{strategy:?}: gene {k} = {}",
+                    best[k]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn improved_finds_the_rosenbrock_valley_floor() {
+        let (best, c) =
+            minimize::<2, 40, _, _>(GaConfig::table1(Strategy::Improved), &mut Mix(3), rosen);
+        assert!(
+            (best[0] - 0.75).abs() < 1e-2 && (best[1] - 0.75).abs() < 1e-2,
+            "cost {c}, at {best:?}"
+        );
+    }
+
+    #[test]
+    fn deterministic_for_a_seed_and_different_across_seeds() {
+        let run = |seed| {
+            minimize::<4, 20, _, _>(
+                GaConfig::table1(Strategy::Improved),
+                &mut Mix(seed),
+                shifted_sphere,
+            )
+        };
+        assert_eq!(run(11), run(11));
+        assert_ne!(run(11).0, run(12).0);
+    }
+
+    #[test]
+    fn a_gathered_population_triggers_diversification() {
+        let mut rng = Mix(5);
+        let mut ga = Ga::<4, 20>::new(GaConfig::table1(Strategy::Improved), &mut rng);
+        // collapse the population onto one point with equal costs
+        let p = ga.pop[0];
+        ga.pop = [p; 20];
+        ga.tell(&[1.0; 20], &mut rng);
+        assert_eq!(ga.last_process(), Process::Diversify);
+    }
+
+    #[test]
+    fn nan_costs_lose() {
+        let mut rng = Mix(9);
+        let mut ga = Ga::<2, 10>::new(GaConfig::table1(Strategy::Adaptive), &mut rng);
+        let mut costs = [f64::NAN; 10];
+        costs[3] = 1.0;
+        let p3 = ga.pop[3];
+        ga.tell(&costs, &mut rng);
+        assert_eq!(ga.best().0, &p3);
+    }
+}
