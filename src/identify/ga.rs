@@ -256,8 +256,8 @@ impl<const N: usize, const P: usize> Ga<N, P> {
             let (mut x, mut y) = (self.pop[a], self.pop[b]);
             if late && i % 2 == 1 {
                 // half of the late-stage offspring: Gaussian around the best
-                for k in 0..N {
-                    x[k] = self.best[k] + 0.5 * w * normal(rng);
+                for (xk, bk) in x.iter_mut().zip(self.best.iter()) {
+                    *xk = bk + 0.5 * w * normal(rng);
                 }
                 next[i] = clamp(&x, &lo, &hi);
                 i += 1;

@@ -36,6 +36,8 @@ pub enum Param {
     Static,
     /// sigma2 [N s/m].
     Viscous,
+    /// vs [m/s] (nonlinear: linearised by its analytic derivative).
+    StribeckVelocity,
     /// asymmetry rc [-].
     AsymCoulomb,
     /// asymmetry rv [-].
@@ -60,6 +62,7 @@ impl Param {
             Param::Coulomb => "coulomb_force_n",
             Param::Static => "static_force_n",
             Param::Viscous => "viscous_coefficient_n_s_per_m",
+            Param::StribeckVelocity => "stribeck_velocity_m_per_s",
             Param::AsymCoulomb => "coulomb_ratio",
             Param::AsymViscous => "viscous_ratio",
             Param::Offset => "force_n",
@@ -111,6 +114,43 @@ pub fn effective_samples(p: &Prepared, parallel_cutoff_hz: f64) -> f64 {
     (2.0 * parallel_cutoff_hz.min(0.1 / p.dt) * duration)
         .min(p.len() as f64)
         .max(10.0)
+}
+
+/// Effective number of independent samples of a model's residual: `N / tau_int` with the
+/// integrated autocorrelation time `tau_int = 1 + 2 sum_k rho_k` of the residual over the
+/// scored samples (summed until the autocorrelation first drops below 0.05). A residual that
+/// is mostly slow model mismatch carries less independent information than its bandwidth
+/// suggests; using this keeps the information criterion from mistaking structure for evidence.
+pub fn residual_effective_samples(p: &Prepared, predicted: &[f64]) -> f64 {
+    let filtered = p.parallel.filtfilt(predicted);
+    let r: Vec<f64> = p
+        .force
+        .iter()
+        .zip(&filtered)
+        .zip(&p.weight)
+        .map(|((f, q), w)| w * (f - q))
+        .step_by(LS_STRIDE) // band-limited to 20 Hz: every 4th sample keeps the correlation
+        .collect();
+    let n = r.len();
+    let var: f64 = r.iter().map(|x| x * x).sum();
+    if var <= 0.0 {
+        return n as f64;
+    }
+    let mut tau = 1.0;
+    for lag in 1..n.min(2000) {
+        let rho = r[lag..]
+            .iter()
+            .zip(&r[..n - lag])
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
+            / var;
+        if rho < 0.05 {
+            break;
+        }
+        tau += 2.0 * rho;
+    }
+    // tau counts strided samples: in full-rate samples it is LS_STRIDE times larger
+    (p.weight.iter().sum::<f64>() / (tau * LS_STRIDE as f64)).max(10.0)
 }
 
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
@@ -201,6 +241,7 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
         Param::Coulomb => q.coulomb_force(),
         Param::Static => q.static_force(),
         Param::Viscous => q.viscous_coefficient(),
+        Param::StribeckVelocity => q.stribeck_velocity(),
         Param::AsymCoulomb => e.asymmetry.map_or(0.0, |a| a.coulomb_ratio),
         Param::AsymViscous => e.asymmetry.map_or(0.0, |a| a.viscous_ratio),
         Param::Offset => e.offset.map_or(0.0, |o| o.force),
@@ -310,6 +351,7 @@ fn linear_step(
                 Param::Coulomb => tau_c * (1.0 + d * rc) * (1.0 - ex) * s,
                 Param::Static => tau_c * (1.0 + d * rc) * ex * s,
                 Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
+                Param::StribeckVelocity => 0.0, // searched on grids, not linearised
                 Param::AsymCoulomb => tau_c * d * level * s,
                 Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                 Param::Offset => 1.0,
@@ -335,7 +377,12 @@ fn linear_step(
     all.push(&offset_part);
     let mut filtered = p.parallel.filtfilt_many(&all);
     let offset_f = filtered.pop().unwrap_or_default();
-    let cols_f = filtered;
+    let mut cols_f = filtered;
+    for c in cols_f.iter_mut() {
+        if c.iter().any(|v| !v.is_finite()) {
+            c.iter_mut().for_each(|v| *v = 0.0);
+        }
+    }
     let target: Vec<f64> = p.force.iter().zip(&offset_f).map(|(f, q)| f - q).collect();
 
     // Scaled normal equations, solved by SVD (robust to a column that carries nothing).
@@ -375,20 +422,10 @@ fn linear_step(
         lm[(j, j)] += d;
         rhs[j] += d * theta0[j] * scale[j];
     }
-    let svd = lm.svd(true, true);
-    // Relative tolerance: a direction the data cannot tell apart (near-collinear effects) gets
-    // the minimum-norm solution instead of a huge, cancelling pair of values.
-    let tol = 1e-8 * svd.singular_values.max();
-    let inv = svd
-        .pseudo_inverse(tol)
-        .unwrap_or_else(|_| DMatrix::zeros(k, k));
+    let inv = pinv(lm);
     let theta_scaled = &inv * &rhs;
     // standard errors from the undamped normal matrix
-    let cov_svd = xtx.clone().svd(true, true);
-    let cov_tol = 1e-8 * cov_svd.singular_values.max();
-    let cov = cov_svd
-        .pseudo_inverse(cov_tol)
-        .unwrap_or_else(|_| DMatrix::zeros(k, k));
+    let cov = pinv(xtx);
     let theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
     let rss_lin: f64 = (0..n)
         .map(|i| {
@@ -419,13 +456,16 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
     let s2 = get(Param::Viscous)
         .unwrap_or(old.viscous_coefficient())
         .max(0.0);
+    let vs = get(Param::StribeckVelocity)
+        .unwrap_or(old.stribeck_velocity())
+        .clamp(1e-5, 1.0);
     let params = LugreParams::new(
         old.bristle_stiffness(),
         old.bristle_damping(),
         s2,
         fc,
         fs,
-        old.stribeck_velocity(),
+        vs,
     )
     .unwrap_or(*old);
     let mut effects = m.friction.effects;
@@ -451,6 +491,25 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
     AxisModel {
         mass_kg: get(Param::Mass).unwrap_or(m.mass_kg),
         friction: lugre_servo::friction::FrictionModel { params, effects },
+    }
+}
+
+/// Pseudo-inverse of a symmetric normal matrix. Relative tolerance: a direction the data
+/// cannot tell apart (near-collinear effects) gets the minimum-norm solution instead of a huge,
+/// cancelling pair of values. A matrix that is not finite, or an SVD that does not converge in
+/// 200 sweeps, gives zeros (the caller's step is then simply rejected).
+fn pinv(a: DMatrix<f64>) -> DMatrix<f64> {
+    let k = a.nrows();
+    if a.iter().any(|v| !v.is_finite()) {
+        return DMatrix::zeros(k, k);
+    }
+    match a.try_svd(true, true, 1e-15, 200) {
+        Some(svd) => {
+            let tol = 1e-8 * svd.singular_values.max();
+            svd.pseudo_inverse(tol)
+                .unwrap_or_else(|_| DMatrix::zeros(k, k))
+        }
+        None => DMatrix::zeros(k, k),
     }
 }
 

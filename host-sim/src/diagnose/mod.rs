@@ -284,11 +284,35 @@ pub fn polish(
             .map(|d| vs0 + d)
             .collect();
         let lens: &[f64] = if lengths { &[1.0, 0.1, 10.0] } else { &[1.0] };
+
         for &scale in lens {
             let base = best.model;
             let (_, f, _) = fit::grid_min(&log_vs, |lv| {
                 let m = fit::with_nonlinear(&base, lv.exp(), fs / (len0 * scale));
                 let f = fit::refit_quick(&m, p, fixed_mass, n_eff);
+                (f.rss, f)
+            });
+            let f = fit::refit(&f.model, p, fixed_mass, n_eff);
+            if f.rss < best.rss {
+                best = f;
+            }
+        }
+        if lengths {
+            // a finer pass around the best vs (the --add polish: one model, worth the time)
+            let base = best.model;
+            let centre = base.friction.params.stribeck_velocity().ln();
+            let fine: Vec<f64> = [-0.2, -0.1, 0.0, 0.1, 0.2]
+                .iter()
+                .map(|d| centre + d)
+                .collect();
+            let s0 = base.friction.params.bristle_stiffness();
+            let (_, f, _) = fit::grid_min(&fine, |lv| {
+                let f = fit::refit_quick(
+                    &fit::with_nonlinear(&base, lv.exp(), s0),
+                    p,
+                    fixed_mass,
+                    n_eff,
+                );
                 (f.rss, f)
             });
             let f = fit::refit(&f.model, p, fixed_mass, n_eff);
@@ -361,13 +385,35 @@ pub fn rank_candidates(
             ))
         })
         .collect();
-    for (i, f) in polished {
+    for (i, f) in polished.iter().cloned() {
         let better = f.rss < out[i].fit.as_ref().map_or(f64::INFINITY, |g| g.rss);
         if let (Some(info), true) = (effect_info(&out[i].effect), better) {
             let (params, nl) = (out[i].parameters.clone(), out[i].nonlinear_excludes_null);
-            out[i] = judge(current, info, f, params, nl, n_eff);
+            out[i] = judge(current, info, f, params, nl, n_eff, p);
         }
     }
+    // Final verdict for every candidate: the noise is judged from the larger model's residual
+    // (nested-model testing), whose integrated autocorrelation time caps the bandwidth count.
+    // Screening with the bandwidth count alone lets slow model mismatch pass for evidence.
+    let judged: Vec<Candidate> = out
+        .par_iter()
+        .map(|c| match (&c.fit, effect_info(&c.effect)) {
+            (Some(f), Some(info)) => {
+                let n_c = n_eff.min(fit::residual_effective_samples(p, &f.model.predict(p)));
+                judge(
+                    current,
+                    info,
+                    f.clone(),
+                    c.parameters.clone(),
+                    c.nonlinear_excludes_null,
+                    n_c,
+                    p,
+                )
+            }
+            _ => c.clone(),
+        })
+        .collect();
+    out = judged;
     out.sort_by(by_bic);
     out
 }
@@ -445,6 +491,7 @@ fn score(
         cand.parameters.clone(),
         nonlinear_ci,
         n_eff,
+        p,
     )
 }
 
@@ -457,7 +504,11 @@ fn judge(
     parameters: Vec<ParamReport>,
     nonlinear_excludes_null: bool,
     n_eff: f64,
+    p: &Prepared,
 ) -> Candidate {
+    // `n_eff` is the bandwidth count when screening; the final verdict passes the count from
+    // the candidate's own residual (see `rank_candidates`)
+    let _ = p;
     let mut parameters: Vec<ParamReport> = parameters
         .into_iter()
         .filter(|q| info.nonlinear.is_some_and(|(n, _, _)| n == q.name))
@@ -566,11 +617,8 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
 }
 
 fn stage(label: String, fit: Fit, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Stage {
-    let regimes = regimes::analyse(
-        p,
-        &fit.model.predict(p),
-        fit.model.friction.params.stribeck_velocity(),
-    );
+    let predicted = fit.model.predict(p);
+    let regimes = regimes::analyse(p, &predicted, fit.model.friction.params.stribeck_velocity());
     let candidates = rank_candidates(p, &fit, fixed_mass, n_eff);
     Stage {
         label,
