@@ -6,6 +6,7 @@
 
 pub mod diagnose;
 pub mod experiments;
+pub mod identify;
 pub mod params_file;
 pub mod plant;
 pub mod record;

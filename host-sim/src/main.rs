@@ -29,6 +29,9 @@ enum Command {
         #[arg(long, default_value = "demo-out")]
         out: PathBuf,
     },
+    /// Identifies the LuGre parameters (static and dynamic stage) with a genetic algorithm or
+    /// CMA-ES, on simulated experiments or measured records.
+    Identify(IdentifyArgs),
     /// Compares a friction model with a measured record, finds where it fails and which
     /// physical effect is missing, adds effects and reports the error falling.
     Diagnose(DiagnoseArgs),
@@ -94,6 +97,48 @@ struct DiagnoseArgs {
     truth: Option<PathBuf>,
 }
 
+#[derive(clap::Args)]
+struct IdentifyArgs {
+    /// Algorithm (single run).
+    #[arg(long, value_enum, default_value = "improved")]
+    algorithm: Alg,
+    /// Sensor setting for simulated data.
+    #[arg(long, value_enum, default_value = "ideal")]
+    noise: Noise,
+    /// Seed (single run).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Measured constant-velocity sweep (CSV with x_ref) instead of simulated data.
+    #[arg(long)]
+    sweep: Option<PathBuf>,
+    /// Measured dynamic record (CSV) instead of simulated data.
+    #[arg(long)]
+    dynamic: Option<PathBuf>,
+    /// Moving mass [kg] (measured data).
+    #[arg(long, default_value_t = 200.0)]
+    mass: f64,
+    /// Parameter file to write.
+    #[arg(long, default_value = "identified.toml")]
+    out: PathBuf,
+    /// Benchmark every algorithm for seeds 1..=N.
+    #[arg(long)]
+    bench: bool,
+    /// Number of seeds of the benchmark.
+    #[arg(long, default_value_t = 20)]
+    seeds: u64,
+    /// Benchmark results as JSON.
+    #[arg(long)]
+    json: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Alg {
+    Traditional,
+    Adaptive,
+    Improved,
+    Cmaes,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum Experiment {
     /// Constant-velocity sweep in both directions (steady-state friction curve).
@@ -129,6 +174,25 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Demo { out } => cli::demo::run(&out),
         Command::Diagnose(args) => cli::diagnose::run(&args),
+        Command::Identify(a) => {
+            use host_sim::identify::Algorithm;
+            cli::identify::run(&cli::identify::Args {
+                algorithm: match a.algorithm {
+                    Alg::Traditional => Algorithm::Traditional,
+                    Alg::Adaptive => Algorithm::Adaptive,
+                    Alg::Improved => Algorithm::Improved,
+                    Alg::Cmaes => Algorithm::Cmaes,
+                },
+                realistic: a.noise == Noise::Realistic,
+                seed: a.seed,
+                sweep: a.sweep,
+                dynamic: a.dynamic,
+                mass: a.mass,
+                out: a.out,
+                bench_seeds: a.bench.then_some(a.seeds),
+                json: a.json,
+            })
+        }
         Command::Simulate {
             experiment,
             out,

@@ -42,7 +42,8 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> Result<(
         }
         "stribeck_shape" => {
             e.stribeck_shape = Some(fx::StribeckShape {
-                exponent: 2.0 - 1.2 * s,
+                // strong: 0.5 (a sharp fall from breakaway), subtle (0.4): 1.4
+                exponent: 2.0 - 1.5 * s,
             })
         }
         "viscous_power" => {

@@ -8,7 +8,7 @@ use host_sim::diagnose::{self, inverse::AxisModel, Options};
 use host_sim::plant::{PlantConfig, SensorConfig};
 use host_sim::scenarios;
 
-const DURATION_S: f64 = 40.0;
+const DURATION_S: f64 = 60.0;
 
 struct Outcome {
     first: String,

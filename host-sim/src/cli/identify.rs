@@ -1,0 +1,252 @@
+//! `host-sim identify`.
+
+use host_sim::identify::{self, Algorithm, IdentData, RunResult};
+use host_sim::params_file::ParamFile;
+use host_sim::plant::PlantConfig;
+use host_sim::record::Record;
+use indicatif::{ProgressBar, ProgressStyle};
+use lugre_servo::friction::{FrictionModel, LugreParams};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Options of `identify`.
+pub struct Args {
+    /// Algorithm for a single run.
+    pub algorithm: Algorithm,
+    /// ideal or realistic.
+    pub realistic: bool,
+    /// Seed of a single run.
+    pub seed: u64,
+    /// Measured sweep record.
+    pub sweep: Option<PathBuf>,
+    /// Measured dynamic record.
+    pub dynamic: Option<PathBuf>,
+    /// Moving mass [kg] for measured records.
+    pub mass: f64,
+    /// Output parameter file.
+    pub out: PathBuf,
+    /// Benchmark mode: seeds 1..=N.
+    pub bench_seeds: Option<u64>,
+    /// Benchmark JSON.
+    pub json: Option<PathBuf>,
+}
+
+fn data(a: &Args, seed: u64) -> Result<(IdentData, Option<LugreParams<f64>>, String), String> {
+    match (&a.sweep, &a.dynamic) {
+        (Some(s), Some(d)) => {
+            let sweep = Record::read(s).map_err(|e| e.to_string())?;
+            let dynamic = Record::read(d).map_err(|e| e.to_string())?;
+            let points =
+                identify::steady_points_from_record(&sweep, a.mass, &s.display().to_string())?;
+            let mut data = identify::dynamic_from_record(&dynamic, a.mass)
+                .map_err(|e| e.replace("dynamic record", &d.display().to_string()))?;
+            data.points = points;
+            Ok((
+                data,
+                None,
+                format!("measured: {} and {}", s.display(), d.display()),
+            ))
+        }
+        (None, None) => {
+            let truth = LugreParams::table2();
+            if a.realistic {
+                Ok((
+                    identify::realistic_data(&PlantConfig::default(), seed),
+                    Some(truth),
+                    "realistic".into(),
+                ))
+            } else {
+                Ok((identify::ideal_data(&truth), Some(truth), "ideal".into()))
+            }
+        }
+        _ => Err("give both --sweep FILE and --dynamic FILE, or neither (simulated data)".into()),
+    }
+}
+
+/// Prints a Table-3 style comparison of runs.
+pub fn print_table(runs: &[&RunResult], truth: Option<&LugreParams<f64>>) {
+    let names = ["sigma0", "sigma1", "sigma2", "Fc", "Fs - Fc", "vs"];
+    print!("  {:<8}", "param");
+    if truth.is_some() {
+        print!(" {:>12}", "truth");
+    }
+    for r in runs {
+        print!(" {:>24}", r.algorithm.name());
+    }
+    println!();
+    let t = truth.map(identify::table3_values);
+    for (i, n) in names.iter().enumerate() {
+        print!("  {:<8}", n);
+        if let Some(t) = t {
+            print!(" {:>12.5e}", t[i]);
+        }
+        for r in runs {
+            match t {
+                Some(t) => print!(
+                    " {:>13.5e} ({:>6.3} %)",
+                    r.values[i],
+                    100.0 * (r.values[i] - t[i]).abs() / t[i]
+                ),
+                None => print!(" {:>24.5e}", r.values[i]),
+            }
+        }
+        println!();
+    }
+}
+
+#[derive(Serialize)]
+struct Bench<'a> {
+    setting: &'a str,
+    runs: &'a [RunResult],
+}
+
+/// Runs the subcommand.
+pub fn run(a: &Args) -> Result<(), String> {
+    if let Some(n) = a.bench_seeds {
+        return bench(a, n);
+    }
+    let (data, truth, setting) = data(a, a.seed)?;
+    println!(
+        "identifying ({setting}) with the {} algorithm, seed {}",
+        a.algorithm.name(),
+        a.seed
+    );
+    let r = identify::identify(a.algorithm, &data, a.seed, truth.as_ref());
+    print_table(&[&r], truth.as_ref());
+    println!(
+        "  costs: static {:.3e}, dynamic {:.3e}; {} evaluations, {:.2} s",
+        r.costs.0, r.costs.1, r.evaluations, r.wall_s
+    );
+    if !r.at_bound.is_empty() {
+        println!(
+            "  warning: at a search-range bound: {}",
+            r.at_bound.join(", ")
+        );
+    }
+    let params =
+        identify::params_of(&r).ok_or("the identified set is not a valid parameter set")?;
+    if let Some(w) = params.warning() {
+        println!("  warning: {w}");
+    }
+    write_params(&params, a.mass, &r, &setting, &a.out)
+}
+
+/// Writes an identified parameter file.
+pub fn write_params(
+    params: &LugreParams<f64>,
+    mass: f64,
+    r: &RunResult,
+    source: &str,
+    out: &Path,
+) -> Result<(), String> {
+    let mut file = ParamFile::new(&FrictionModel::plain(*params), mass);
+    file.fit.algorithm = Some(r.algorithm.name().into());
+    file.fit.static_fitness = Some(r.costs.0);
+    file.fit.dynamic_fitness = Some(r.costs.1);
+    file.fit.source = Some(format!("host-sim identify ({source})"));
+    file.write(out)
+        .map_err(|e| format!("{}: {e}", out.display()))?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        f64::NAN
+    } else if v.len() % 2 == 1 {
+        v[v.len() / 2]
+    } else {
+        0.5 * (v[v.len() / 2 - 1] + v[v.len() / 2])
+    }
+}
+
+fn bench(a: &Args, seeds: u64) -> Result<(), String> {
+    let wall = std::time::Instant::now();
+    let setting = if a.realistic { "realistic" } else { "ideal" };
+    // one data set per seed (realistic: the sensor noise differs per seed)
+    let sets: Vec<(u64, IdentData, Option<LugreParams<f64>>)> = (1..=seeds)
+        .into_par_iter()
+        .map(|s| {
+            let (d, t, _) = data(a, s)?;
+            Ok((s, d, t))
+        })
+        .collect::<Result<_, String>>()?;
+    let jobs: Vec<(Algorithm, usize)> = Algorithm::ALL
+        .iter()
+        .flat_map(|&alg| (0..sets.len()).map(move |i| (alg, i)))
+        .collect();
+    let bar = ProgressBar::new(jobs.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("  {bar:40} {pos}/{len} runs {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    if std::env::var_os("CI").is_some() {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let runs: Vec<RunResult> = jobs
+        .par_iter()
+        .map(|&(alg, i)| {
+            let (seed, d, t) = &sets[i];
+            let r = identify::identify(alg, d, *seed, t.as_ref());
+            bar.inc(1);
+            r
+        })
+        .collect();
+    bar.finish_and_clear();
+    if let Some(path) = &a.json {
+        let text = serde_json::to_string_pretty(&Bench {
+            setting,
+            runs: &runs,
+        })
+        .map_err(|e| e.to_string())?;
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    println!(
+        "setting {setting}, seeds 1..={seeds}, {} runs in {:.1} s",
+        runs.len(),
+        wall.elapsed().as_secs_f64()
+    );
+    println!(
+        "  {:<12} {:>10} {:>10} | {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} | {:>10} {:>8}",
+        "algorithm",
+        "median max",
+        "worst max",
+        "sigma0",
+        "sigma1",
+        "sigma2",
+        "Fc",
+        "Fs-Fc",
+        "vs",
+        "evals->1%",
+        "at bound"
+    );
+    for alg in Algorithm::ALL {
+        let rs: Vec<&RunResult> = runs.iter().filter(|r| r.algorithm == alg).collect();
+        let errs: Vec<_> = rs.iter().filter_map(|r| r.errors_pct).collect();
+        let worst: Vec<f64> = errs.iter().map(|e| e.worst()).collect();
+        let med = |f: &dyn Fn(&identify::ErrorsPct) -> f64| median(errs.iter().map(f).collect());
+        let to1: Vec<f64> = rs
+            .iter()
+            .filter_map(|r| r.evaluations_to_1pct.map(|e| e as f64))
+            .collect();
+        let reached = to1.len();
+        println!(
+            "  {:<12} {:>9.4}% {:>9.4}% | {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% | {:>10} {:>8}",
+            alg.name(),
+            median(worst.clone()),
+            worst.iter().cloned().fold(0.0, f64::max),
+            med(&|e| e.sigma0),
+            med(&|e| e.sigma1),
+            med(&|e| e.sigma2),
+            med(&|e| e.fc),
+            med(&|e| e.fs_minus_fc),
+            med(&|e| e.vs),
+            if reached == rs.len() { format!("{:.0}", median(to1)) } else { format!("{reached}/{} runs", rs.len()) },
+            rs.iter().filter(|r| !r.at_bound.is_empty()).count()
+        );
+    }
+    Ok(())
+}
