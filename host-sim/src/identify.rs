@@ -88,10 +88,11 @@ pub fn sweep_speeds() -> Vec<f64> {
     experiments::log_speeds(5e-4, 0.1, 12)
 }
 
-/// The prescribed velocity of the ideal dynamic experiment: 30 um/s amplitude at 0.5 Hz for 2 s
-/// (four reversals through pre-sliding).
+/// The prescribed velocity of the ideal dynamic experiment: 30 um/s amplitude at 1 Hz for 1 s
+/// (two reversals). At this speed a reversal's bristle transient (`g / (sigma0 |v|)`, a few
+/// ms) spans several samples, the best a 1 kHz experiment can do for sigma0 and sigma1.
 fn dynamic_velocity(t: f64) -> f64 {
-    0.00003 * (std::f64::consts::PI * t).sin()
+    0.00003 * (2.0 * std::f64::consts::PI * t).sin()
 }
 
 /// The paper's setting: noise-free values of the true model.
@@ -105,7 +106,7 @@ pub fn ideal_data(truth: &LugreParams<f64>) -> IdentData {
         })
         .collect();
     let dt = 1e-3;
-    let n = 2000;
+    let n = 1000;
     // mean velocity over each period (the input the exact step expects), by Simpson's rule
     let velocity: Vec<f64> = (0..n)
         .map(|k| {

@@ -11,3 +11,4 @@ pub mod params_file;
 pub mod plant;
 pub mod record;
 pub mod scenarios;
+pub mod track;

@@ -32,6 +32,18 @@ enum Command {
     /// Identifies the LuGre parameters (static and dynamic stage) with a genetic algorithm or
     /// CMA-ES, on simulated experiments or measured records.
     Identify(IdentifyArgs),
+    /// Closed-loop tracking benchmark: the core's controller against the simulator.
+    Track {
+        /// Writes the results as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Writes an SVG plot of the low-speed tracking error.
+        #[arg(long)]
+        plot: Option<PathBuf>,
+        /// Sensor noise seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
     /// Compares a friction model with a measured record, finds where it fails and which
     /// physical effect is missing, adds effects and reports the error falling.
     Diagnose(DiagnoseArgs),
@@ -174,6 +186,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Demo { out } => cli::demo::run(&out),
         Command::Diagnose(args) => cli::diagnose::run(&args),
+        Command::Track { json, plot, seed } => {
+            cli::track::run(json.as_deref(), plot.as_deref(), seed)
+        }
         Command::Identify(a) => {
             use host_sim::identify::Algorithm;
             cli::identify::run(&cli::identify::Args {

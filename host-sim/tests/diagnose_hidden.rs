@@ -72,12 +72,23 @@ fn check(effect: &str) {
                 "seed {seed} strength {strength}: {effect} not significant"
             );
             if strength >= 1.0 {
-                assert!(
-                    o.added <= 0.5 * o.base,
-                    "strong {effect}: {} % -> {} %",
-                    o.base,
-                    o.added
-                );
+                if o.base >= 2.0 * o.floor {
+                    assert!(
+                        o.added <= 0.5 * o.base,
+                        "strong {effect}: {} % -> {} %",
+                        o.base,
+                        o.added
+                    );
+                } else {
+                    // the effect lifts the error less than the noise floor itself (stribeck_shape
+                    // on Table 2: a 126 N hump beside 48 900 N s/m of viscous friction): halving
+                    // the total is impossible for any model, so the excess must halve
+                    let (before, after) = (o.base - o.floor, o.added - o.floor);
+                    assert!(
+                        after <= 0.5 * before,
+                        "strong {effect}: excess {before} % -> {after} %"
+                    );
+                }
             }
             assert!(
                 o.added <= 1.2 * o.floor,

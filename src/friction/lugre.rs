@@ -38,6 +38,20 @@ pub struct BristleStep<T> {
 ///
 /// `g` is the Stribeck level [N] (clamped to a tiny positive value), `sigma0` [N/m].
 pub fn bristle_step<T: Float>(z: T, velocity: T, sigma0: T, g: T, dt: T) -> BristleStep<T> {
+    driven_bristle_step(z, velocity, velocity, sigma0, g, dt)
+}
+
+/// Exact zero-order-hold step of `dz/dt = u - sigma0 |v| z / g`: the bristle equation driven
+/// by `u` (the velocity itself in the model; velocity plus an error correction in an
+/// observer) with the decay set by `v`.
+pub fn driven_bristle_step<T: Float>(
+    z: T,
+    drive: T,
+    velocity: T,
+    sigma0: T,
+    g: T,
+    dt: T,
+) -> BristleStep<T> {
     let g = g.max(T::min_positive_value());
     let rate = sigma0 * velocity.abs() / g; // a [1/s]
     let x = rate * dt;
@@ -49,8 +63,8 @@ pub fn bristle_step<T: Float>(z: T, velocity: T, sigma0: T, g: T, dt: T) -> Bris
         T::one() - x / (T::one() + T::one())
     };
     BristleStep {
-        deflection: z * decay + velocity * dt * phi,
-        deflection_rate: (velocity - rate * z) * decay,
+        deflection: z * decay + drive * dt * phi,
+        deflection_rate: (drive - rate * z) * decay,
     }
 }
 

@@ -7,6 +7,6 @@ pub mod model;
 pub mod params;
 
 pub use effects::{Conditions, Effects, EFFECT_NAMES};
-pub use lugre::{bristle_step, BristleStep, LugreState};
+pub use lugre::{bristle_step, driven_bristle_step, BristleStep, LugreState};
 pub use model::{FrictionModel, FrictionState, Levels};
 pub use params::{LugreParams, ParamError, ParamErrorKind, ParamField, ParamWarning};

@@ -3,3 +3,4 @@
 pub mod demo;
 pub mod diagnose;
 pub mod identify;
+pub mod track;

@@ -1,0 +1,377 @@
+//! The 1 kHz servo controller: measurements -> fault check -> estimator -> observer and
+//! feed-forward -> refinement -> cascade -> valve command.
+
+use super::estimator::{Estimator, EstimatorConfig};
+use super::faults::{Faults, RECOVERY_TICKS};
+use super::feedforward::{observer_weight, Feedforward};
+use super::observer::Observer;
+use super::position::{Cascade, CascadeConfig};
+use super::refine::{RefineConfig, Refiner};
+use crate::friction::{Conditions, FrictionModel, LugreParams};
+
+/// Which compensation parts run (the benchmark's configurations).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Features {
+    /// Friction feed-forward from the reference.
+    pub feedforward: bool,
+    /// LuGre observer blended into the compensation.
+    pub observer: bool,
+    /// Online refinement of Fc, Fs - Fc, sigma2.
+    pub refinement: bool,
+}
+
+impl Features {
+    /// Plain position loop.
+    pub const PID: Self = Self {
+        feedforward: false,
+        observer: false,
+        refinement: false,
+    };
+    /// + feed-forward.
+    pub const FEEDFORWARD: Self = Self {
+        feedforward: true,
+        observer: false,
+        refinement: false,
+    };
+    /// + observer.
+    pub const FEEDFORWARD_OBSERVER: Self = Self {
+        feedforward: true,
+        observer: true,
+        refinement: false,
+    };
+    /// Everything.
+    pub const FULL: Self = Self {
+        feedforward: true,
+        observer: true,
+        refinement: true,
+    };
+}
+
+/// Controller configuration (checked once, shared by any number of states).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ControllerConfig {
+    /// Identified friction model.
+    pub model: FrictionModel<f32>,
+    /// Moving mass M [kg].
+    pub mass_kg: f32,
+    /// Piston-side area A_a [m^2].
+    pub piston_area_m2: f32,
+    /// Rod-side area A_b [m^2].
+    pub annulus_area_m2: f32,
+    /// Position range [m] (outside it, plus margin, is a fault).
+    pub stroke_m: [f32; 2],
+    /// Pressure transducer range [Pa].
+    pub pressure_range_pa: [f32; 2],
+    /// Cascade gains.
+    pub cascade: CascadeConfig,
+    /// Observer correction gain k [1/s].
+    pub observer_gain: f32,
+    /// Speed at which the observer gets half its weight [m/s].
+    pub blend_speed: f32,
+    /// Maximum observer weight [-].
+    pub blend_max: f32,
+    /// Estimator gains.
+    pub estimator: EstimatorConfig,
+    /// Refinement settings.
+    pub refine: RefineConfig,
+    /// Enabled parts.
+    pub features: Features,
+    /// Control period [s].
+    pub period_s: f32,
+}
+
+impl ControllerConfig {
+    /// Defaults for the host simulator's axis (50/28 mm cylinder, 200 kg, 210 bar) with the
+    /// given model.
+    pub fn for_simulated_axis(model: FrictionModel<f32>, features: Features) -> Self {
+        Self {
+            model,
+            mass_kg: 200.0,
+            piston_area_m2: 1.963_495e-3,
+            annulus_area_m2: 1.347_743e-3,
+            stroke_m: [-0.01, 0.51],
+            pressure_range_pa: [-1e5, 300e5],
+            cascade: CascadeConfig {
+                position_gain: 2.0e6,
+                velocity_gain: 2.0e4,
+                position_integral_gain: 2.0e7,
+                force_gain: 1.0e-5,
+                force_integral_gain: 2.0e-4,
+                full_opening_speed: 0.6,
+                position_integral_limit: 1e-3,
+            },
+            observer_gain: 200.0,
+            blend_speed: 5e-3,
+            blend_max: 0.5,
+            estimator: EstimatorConfig::default(),
+            refine: RefineConfig::default(),
+            features,
+            period_s: 1e-3,
+        }
+    }
+}
+
+/// One period's measurements.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measurements {
+    /// Encoder position [m].
+    pub position_m: f32,
+    /// Chamber A pressure [Pa].
+    pub pressure_a_pa: f32,
+    /// Chamber B pressure [Pa].
+    pub pressure_b_pa: f32,
+    /// Oil temperature [degC], if measured.
+    pub temperature_c: Option<f32>,
+}
+
+/// One period's reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reference {
+    /// Position [m].
+    pub position_m: f32,
+    /// Velocity [m/s].
+    pub velocity_m_per_s: f32,
+    /// Acceleration [m/s^2].
+    pub acceleration_m_per_s2: f32,
+}
+
+/// What the controller did this period.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Output {
+    /// Valve command in [-1, 1] (0 = null, the safe state).
+    pub valve_command: f32,
+    /// Force demand [N].
+    pub force_demand_n: f32,
+    /// Friction compensation used [N].
+    pub friction_compensation_n: f32,
+    /// Feed-forward friction [N].
+    pub friction_feedforward_n: f32,
+    /// Observer friction [N].
+    pub friction_observer_n: f32,
+    /// Fault flags of this period.
+    pub faults: Faults,
+    /// True while in the safe state.
+    pub safe: bool,
+}
+
+/// The controller state.
+#[derive(Clone, Copy, Debug)]
+pub struct Controller {
+    config: ControllerConfig,
+    model: FrictionModel<f32>,
+    estimator: Estimator,
+    observer: Observer,
+    feedforward: Feedforward,
+    refiner: Refiner,
+    cascade: Cascade,
+    last_ref: Option<f32>,
+    sane_ticks: u32,
+    safe: bool,
+    stuck_ticks: u32,
+    last_position: f32,
+}
+
+impl Controller {
+    /// A controller at rest, in the safe state until the first sane measurements.
+    pub fn new(config: ControllerConfig) -> Self {
+        let p = &config.model.params;
+        let nominal = [
+            p.coulomb_force(),
+            p.static_force() - p.coulomb_force(),
+            p.viscous_coefficient(),
+        ];
+        Self {
+            model: config.model,
+            estimator: Estimator::default(),
+            observer: Observer::default(),
+            feedforward: Feedforward::default(),
+            refiner: Refiner::new(nominal),
+            cascade: Cascade::default(),
+            last_ref: None,
+            sane_ticks: RECOVERY_TICKS,
+            safe: false,
+            stuck_ticks: 0,
+            last_position: 0.0,
+            config,
+        }
+    }
+
+    /// The model in use (with refined parameters).
+    pub fn model(&self) -> &FrictionModel<f32> {
+        &self.model
+    }
+
+    fn input_faults(&self, m: &Measurements, r: &Reference) -> Faults {
+        let mut f = Faults::default();
+        let finite = m.position_m.is_finite()
+            && m.pressure_a_pa.is_finite()
+            && m.pressure_b_pa.is_finite()
+            && m.temperature_c.is_none_or(f32::is_finite)
+            && r.position_m.is_finite()
+            && r.velocity_m_per_s.is_finite()
+            && r.acceleration_m_per_s2.is_finite();
+        if !finite {
+            f.insert(Faults::NON_FINITE);
+            return f;
+        }
+        let [lo, hi] = self.config.stroke_m;
+        if m.position_m < lo || m.position_m > hi {
+            f.insert(Faults::POSITION_RANGE);
+        }
+        let [plo, phi] = self.config.pressure_range_pa;
+        let bad = |p: f32| p < plo || p > phi;
+        if bad(m.pressure_a_pa) || bad(m.pressure_b_pa) {
+            f.insert(Faults::PRESSURE_RANGE);
+        }
+        f
+    }
+
+    /// One control period.
+    pub fn tick(&mut self, m: &Measurements, r: &Reference) -> Output {
+        let c = self.config;
+        let h = c.period_s;
+        let mut out = Output::default();
+        let faults = self.input_faults(m, r);
+        out.faults = faults;
+        if !faults.is_empty() {
+            self.sane_ticks = 0;
+            self.enter_safe();
+            out.safe = true;
+            return out;
+        }
+        if self.sane_ticks < RECOVERY_TICKS {
+            self.sane_ticks += 1;
+            out.safe = true;
+            self.estimator.reset(m.position_m);
+            self.last_ref = Some(r.position_m);
+            return out;
+        }
+        if self.safe {
+            // leaving the safe state: start from where the axis is, integrators cleared
+            self.safe = false;
+            self.cascade.reset();
+            self.estimator.reset(m.position_m);
+            self.observer = Observer::default();
+            self.feedforward = Feedforward::default();
+        }
+        self.estimator.update(&c.estimator, m.position_m, h);
+        let est = self.estimator;
+        let measured_force =
+            m.pressure_a_pa * c.piston_area_m2 - m.pressure_b_pa * c.annulus_area_m2;
+        let cond = Conditions {
+            position: est.position,
+            pressure_sum: m.pressure_a_pa + m.pressure_b_pa,
+            temperature: m
+                .temperature_c
+                .unwrap_or(self.model.effects.reference_conditions().temperature),
+        };
+        let v_ref_mean = match self.last_ref {
+            Some(prev) => (r.position_m - prev) / h,
+            None => r.velocity_m_per_s,
+        };
+        self.last_ref = Some(r.position_m);
+        let e = r.position_m - est.position;
+
+        // friction: feed-forward along the reference, observer along the measured motion
+        let mut compensation = 0.0;
+        if c.features.feedforward {
+            out.friction_feedforward_n =
+                self.feedforward
+                    .update(&self.model, v_ref_mean, r.velocity_m_per_s, &cond, h);
+            compensation = out.friction_feedforward_n;
+        }
+        if c.features.observer {
+            let ok = self.observer.update(
+                &self.model,
+                est.mean_velocity,
+                est.velocity,
+                -e,
+                c.observer_gain,
+                &cond,
+                h,
+            );
+            if ok {
+                out.friction_observer_n = self.observer.force;
+                let w = observer_weight(r.velocity_m_per_s, c.blend_speed, c.blend_max);
+                compensation += w * (self.observer.force - compensation);
+            } else {
+                out.faults.insert(Faults::OBSERVER_DIVERGED);
+                // fall back to the static model along the reference
+                compensation = self.model.steady_state_force(r.velocity_m_per_s, &cond);
+            }
+        }
+        if c.features.refinement {
+            let y = measured_force - c.mass_kg * est.acceleration;
+            let vs = self.model.params.stribeck_velocity();
+            let updated = self
+                .refiner
+                .update(&c.refine, y, est.velocity, est.acceleration, vs);
+            if updated {
+                let p = self.model.params;
+                let [fc, dfs, s2] = self.refiner.theta;
+                match LugreParams::new(
+                    p.bristle_stiffness(),
+                    p.bristle_damping(),
+                    s2,
+                    fc,
+                    fc + dfs,
+                    vs,
+                ) {
+                    Ok(q) => self.model.params = q,
+                    Err(_) => {
+                        self.refiner.reset();
+                        self.model.params = c.model.params;
+                        out.faults.insert(Faults::REFINEMENT_RESET);
+                    }
+                }
+            }
+        }
+        if !compensation.is_finite() {
+            compensation = 0.0;
+            out.faults.insert(Faults::OBSERVER_DIVERGED);
+            self.observer = Observer::default();
+        }
+        out.friction_compensation_n = compensation;
+
+        let co = self.cascade.update(
+            &c.cascade,
+            c.mass_kg,
+            e,
+            r.velocity_m_per_s - est.velocity,
+            r.velocity_m_per_s,
+            r.acceleration_m_per_s2,
+            compensation,
+            measured_force,
+            h,
+        );
+        out.force_demand_n = co.force_demand;
+
+        // stuck encoder: the valve pushed hard for 0.3 s and the position did not change at all
+        if co.command.abs() > 0.9 && m.position_m == self.last_position {
+            self.stuck_ticks += 1;
+        } else {
+            self.stuck_ticks = 0;
+        }
+        self.last_position = m.position_m;
+        if self.stuck_ticks > 300 || !co.command.is_finite() {
+            out.faults.insert(if co.command.is_finite() {
+                Faults::STUCK_ENCODER
+            } else {
+                Faults::NON_FINITE
+            });
+            self.sane_ticks = 0;
+            self.stuck_ticks = 0;
+            self.enter_safe();
+            out.safe = true;
+            return out;
+        }
+        out.valve_command = co.command;
+        out
+    }
+
+    fn enter_safe(&mut self) {
+        self.safe = true;
+        self.cascade.reset();
+    }
+}

@@ -1,0 +1,49 @@
+//! Friction feed-forward from the reference motion, blended with the observer.
+//!
+//! The reference is noise-free and known a period ahead, so a LuGre model driven by the
+//! reference velocity gives a friction prediction that does not chatter at standstill
+//! (compensating Coulomb friction from a noisy, delayed measured velocity makes real axes
+//! vibrate at rest). The observer, driven by the measured motion, corrects it once the axis
+//! moves clearly:
+//!
+//! ```text
+//! F_comp = F_ff + w (F_obs - F_ff),   w = w_max s^2 / (1 + s^2),   s = |v_ref| / v_blend
+//! ```
+//!
+//! so the blend is exactly the feed-forward at standstill and fades in smoothly with speed.
+
+use crate::friction::{Conditions, FrictionModel, FrictionState};
+
+/// Feed-forward state: the LuGre model along the reference.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Feedforward {
+    /// Model state along the reference.
+    pub state: FrictionState<f32>,
+    /// Predicted friction [N].
+    pub force: f32,
+}
+
+impl Feedforward {
+    /// One step along the reference: mean reference velocity over the period and the
+    /// reference velocity now [m/s].
+    pub fn update(
+        &mut self,
+        model: &FrictionModel<f32>,
+        v_ref_mean: f32,
+        v_ref: f32,
+        c: &Conditions<f32>,
+        h: f32,
+    ) -> f32 {
+        self.force = model.step_split(&mut self.state, v_ref_mean, v_ref, c, h);
+        if !self.force.is_finite() {
+            *self = Self::default();
+        }
+        self.force
+    }
+}
+
+/// Blend weight of the observer (see the module docs).
+pub fn observer_weight(v_ref: f32, v_blend: f32, w_max: f32) -> f32 {
+    let s = v_ref / v_blend.max(1e-9);
+    w_max * s * s / (1.0 + s * s)
+}

@@ -1,0 +1,16 @@
+//! The 1 kHz servo control core, one concept per module:
+//! [`estimator`] (velocity and acceleration), [`observer`] (LuGre friction observer),
+//! [`feedforward`] (friction from the reference, blended with the observer), [`position`]
+//! (position -> force -> valve cascade), [`refine`] (online RLS of Fc, Fs - Fc, sigma2),
+//! [`faults`], and [`controller`] which composes them.
+
+pub mod controller;
+pub mod estimator;
+pub mod faults;
+pub mod feedforward;
+pub mod observer;
+pub mod position;
+pub mod refine;
+
+pub use controller::{Controller, ControllerConfig, Features, Measurements, Output, Reference};
+pub use faults::Faults;
