@@ -85,6 +85,9 @@ pub fn run(
         );
         if !out.faults.is_empty() {
             fault_ticks += 1;
+            if std::env::var_os("LUGRE_DEBUG").is_some() {
+                eprintln!("t {t:.3} faults {:?}", out.faults);
+            }
         }
         plant.advance(out.valve_command as f64, dt);
         let (xr, vr, _) = reference(t + dt);

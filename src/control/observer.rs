@@ -8,8 +8,10 @@
 //! The correction `-k e` makes the estimate error passive together with a PD position loop
 //! (the paper's Lyapunov argument); it is discretised with the same exact zero-order-hold
 //! step as the model ([`crate::friction::driven_bristle_step`]), so the observer is stable at
-//! 1 kHz for any stiffness. A state outside twice the physical bound `|z| <= Fs / sigma0`, or
-//! non-finite, counts as divergence: the observer resets and reports it.
+//! 1 kHz for any stiffness. Near standstill the decay `sigma0 |v| / g` vanishes while the
+//! correction keeps driving, so `z^` is projected onto the physical set `|z| <= Fs / sigma0`
+//! (the invariant set of the true state); only a non-finite state counts as divergence: the
+//! observer then resets and reports it.
 
 use crate::friction::{driven_bristle_step, Conditions, FrictionModel};
 
@@ -49,13 +51,15 @@ impl Observer {
         let force = sigma0 * b.deflection
             + model.params.bristle_damping() * b.deflection_rate
             + model.viscous_force(velocity, &model.levels(velocity, c, 0.0));
-        let bound = 2.0 * l.static_ / sigma0;
-        if !(b.deflection.is_finite() && force.is_finite()) || b.deflection.abs() > bound {
+        if !(b.deflection.is_finite() && force.is_finite()) {
             *self = Self::default();
             return false;
         }
-        self.z = b.deflection;
-        self.force = force;
+        let bound = l.static_ / sigma0;
+        let z = b.deflection.clamp(-bound, bound);
+        // the force follows the projected state
+        self.force = force + sigma0 * (z - b.deflection);
+        self.z = z;
         true
     }
 }

@@ -1,0 +1,226 @@
+//! The controller (f32, as on the MCU) against the full hydraulic simulator.
+
+use host_sim::plant::{PlantConfig, SensorConfig};
+use host_sim::scenarios;
+use host_sim::track::{self, controller_config, drift_reference, low_speed_reference};
+use lugre_servo::control::{Controller, Faults, Features, Measurements, Reference};
+use proptest::prelude::*;
+
+#[test]
+fn friction_compensation_cuts_low_speed_error_and_reversal_peaks() {
+    let plant = PlantConfig::default();
+    let s = SensorConfig::realistic(3);
+    let pid = track::run(
+        &plant,
+        s,
+        controller_config(Features::PID),
+        &low_speed_reference,
+        20.0,
+    );
+    let full = track::run(
+        &plant,
+        s,
+        controller_config(Features::FULL),
+        &low_speed_reference,
+        20.0,
+    );
+    let (p, f) = (pid.tracking, full.tracking);
+    println!("pid {:?}\nfull {:?}", p, f);
+    assert!(
+        f.rms_err_m <= 0.2 * p.rms_err_m,
+        "rms {} vs {}",
+        f.rms_err_m,
+        p.rms_err_m
+    );
+    assert!(
+        f.reversal_err_m <= 0.3 * p.reversal_err_m,
+        "reversal {} vs {}",
+        f.reversal_err_m,
+        p.reversal_err_m
+    );
+    assert_eq!(full.fault_ticks, 0);
+}
+
+#[test]
+fn refinement_follows_warming_oil() {
+    let s = SensorConfig::realistic(4);
+    let mut warming = PlantConfig::default();
+    scenarios::with_effect(&mut warming, "temperature_dependence", 1.0).unwrap();
+    let plain = PlantConfig::default();
+    let no_drift = track::run(
+        &plain,
+        s,
+        controller_config(Features::FULL),
+        &drift_reference,
+        60.0,
+    );
+    let fixed = track::run(
+        &warming,
+        s,
+        controller_config(Features::FEEDFORWARD_OBSERVER),
+        &drift_reference,
+        60.0,
+    );
+    let refined = track::run(
+        &warming,
+        s,
+        controller_config(Features::FULL),
+        &drift_reference,
+        60.0,
+    );
+    let (n, x, r) = (
+        no_drift.tracking.rms_err_m,
+        fixed.tracking.rms_err_m,
+        refined.tracking.rms_err_m,
+    );
+    println!("no_drift {n:.3e} fixed {x:.3e} refined {r:.3e}");
+    assert!(r <= 1.3 * n, "refined {r} vs no drift {n}");
+    assert!(x >= 1.2 * n, "fixed {x} should be visibly worse than {n}");
+    // refined parameters converge towards the drifted truth
+    let c = lugre_servo::friction::Conditions {
+        position: 0.25,
+        pressure_sum: 0.0,
+        temperature: refined.final_temperature_c,
+    };
+    let l = warming.friction.levels(0.1, &c, 0.0);
+    let p = refined.final_model.params;
+    let err = |a: f32, b: f64| (a as f64 - b).abs() / b;
+    assert!(
+        err(p.coulomb_force(), l.coulomb) < 0.05,
+        "Fc {} vs {}",
+        p.coulomb_force(),
+        l.coulomb
+    );
+    assert!(
+        err(p.viscous_coefficient(), l.viscous) < 0.05,
+        "sigma2 {} vs {}",
+        p.viscous_coefficient(),
+        l.viscous
+    );
+}
+
+fn meas(x: f32) -> Measurements {
+    Measurements {
+        position_m: x,
+        pressure_a_pa: 85e5,
+        pressure_b_pa: 124e5,
+        temperature_c: Some(40.0),
+    }
+}
+
+fn hold(x: f32) -> Reference {
+    Reference {
+        position_m: x,
+        velocity_m_per_s: 0.0,
+        acceleration_m_per_s2: 0.0,
+    }
+}
+
+#[test]
+fn bad_inputs_put_the_valve_to_null_and_recover() {
+    let mut c = Controller::new(controller_config(Features::FULL));
+    for _ in 0..100 {
+        c.tick(&meas(0.25), &hold(0.2501));
+    }
+    let cases = [
+        (
+            Measurements {
+                position_m: f32::NAN,
+                ..meas(0.25)
+            },
+            Faults::NON_FINITE,
+        ),
+        (
+            Measurements {
+                pressure_a_pa: f32::INFINITY,
+                ..meas(0.25)
+            },
+            Faults::NON_FINITE,
+        ),
+        (
+            Measurements {
+                temperature_c: Some(f32::NAN),
+                ..meas(0.25)
+            },
+            Faults::NON_FINITE,
+        ),
+        (
+            Measurements {
+                position_m: 7.0,
+                ..meas(0.25)
+            },
+            Faults::POSITION_RANGE,
+        ),
+        (
+            Measurements {
+                pressure_b_pa: 900e5,
+                ..meas(0.25)
+            },
+            Faults::PRESSURE_RANGE,
+        ),
+    ];
+    for (m, fault) in cases {
+        let o = c.tick(&m, &hold(0.2501));
+        assert!(o.faults.contains(fault), "{m:?}: {:?}", o.faults);
+        assert!(o.safe && o.valve_command == 0.0);
+        // recovery once the inputs are sane again for the recovery period
+        let mut last = o;
+        for _ in 0..lugre_servo::control::faults::RECOVERY_TICKS + 2 {
+            last = c.tick(&meas(0.25), &hold(0.2501));
+        }
+        assert!(
+            !last.safe && last.valve_command != 0.0,
+            "did not recover from {fault:?}"
+        );
+    }
+}
+
+#[test]
+fn a_stuck_encoder_is_detected() {
+    let mut c = Controller::new(controller_config(Features::FULL));
+    let mut tripped = false;
+    for k in 0..2000 {
+        // the reference runs away while the encoder never changes
+        let r = Reference {
+            position_m: 0.25 + 1e-4 * k as f32,
+            velocity_m_per_s: 0.1,
+            acceleration_m_per_s2: 0.0,
+        };
+        let o = c.tick(&meas(0.25), &r);
+        if o.faults.contains(Faults::STUCK_ENCODER) {
+            assert_eq!(o.valve_command, 0.0);
+            tripped = true;
+            break;
+        }
+    }
+    assert!(tripped);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Any inputs, non-finite included: no panic, never a NaN or out-of-range command.
+    #[test]
+    fn never_panics_or_outputs_nan(
+        steps in proptest::collection::vec(
+            (prop_oneof![Just(f32::NAN), Just(f32::INFINITY), Just(-f32::INFINITY), -1.0f32..1.0, 0.2f32..0.3],
+             prop_oneof![Just(f32::NAN), -1e8f32..5e7, 5e6f32..2e7],
+             prop_oneof![Just(f32::NEG_INFINITY), -1e8f32..5e7, 5e6f32..2e7],
+             prop_oneof![Just(None), Just(Some(f32::NAN)), (0.0f32..120.0).prop_map(Some)],
+             prop_oneof![Just(f32::NAN), 0.2f32..0.3, -10.0f32..10.0],
+             prop_oneof![Just(f32::INFINITY), -1.0f32..1.0],
+             -100.0f32..100.0),
+            1..400),
+        features in prop_oneof![Just(Features::PID), Just(Features::FEEDFORWARD_OBSERVER), Just(Features::FULL)],
+    ) {
+        let mut c = Controller::new(controller_config(features));
+        for (x, pa, pb, temp, xr, vr, ar) in steps {
+            let o = c.tick(
+                &Measurements { position_m: x, pressure_a_pa: pa, pressure_b_pa: pb, temperature_c: temp },
+                &Reference { position_m: xr, velocity_m_per_s: vr, acceleration_m_per_s2: ar },
+            );
+            prop_assert!(o.valve_command.is_finite() && o.valve_command.abs() <= 1.0);
+            prop_assert!(o.force_demand_n.is_finite() && o.friction_compensation_n.is_finite());
+        }
+    }
+}
