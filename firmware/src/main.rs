@@ -1,0 +1,173 @@
+//! The lugre-servo controller at 1 kHz on an STM32F405, in QEMU.
+//!
+//! Runs 4 s of a low-speed sinusoid (2 mm, 0.5 Hz) with the full controller (feed-forward,
+//! observer, refinement) against an on-target plant model, measures the controller's cost per
+//! tick with SysTick under `-icount shift=0` (calibrated against a block of 1000 `nop`s), prints
+//! the figures over semihosting and exits with success only if the axis tracked.
+
+#![no_std]
+#![no_main]
+
+mod plant;
+
+use core::sync::atomic::{AtomicU32, Ordering};
+use cortex_m::peripheral::{syst::SystClkSource, SYST};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::{debug, hprintln};
+use lugre_servo::control::{Controller, ControllerConfig, Features, Measurements, Reference};
+use lugre_servo::friction::{FrictionModel, LugreParams};
+
+#[cfg(feature = "defmt")]
+use defmt_rtt as _;
+
+/// The valve command register (a DAC on real hardware), as raw f32 bits.
+static VALVE: AtomicU32 = AtomicU32::new(0);
+
+fn write_valve(u: f32) {
+    VALVE.store(u.to_bits(), Ordering::SeqCst);
+}
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    // the safe state first: valve to null, then report
+    write_valve(0.0);
+    hprintln!("PANIC: valve set to null");
+    debug::exit(debug::EXIT_FAILURE);
+    loop {}
+}
+
+/// SysTick counts elapsed (it counts down, 24 bits).
+fn elapsed(start: u32, end: u32) -> u32 {
+    start.wrapping_sub(end) & 0x00FF_FFFF
+}
+
+#[inline(always)]
+fn nop10() {
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+}
+
+#[inline(always)]
+fn nop100() {
+    nop10();
+    nop10();
+    nop10();
+    nop10();
+    nop10();
+    nop10();
+    nop10();
+    nop10();
+    nop10();
+    nop10();
+}
+
+#[entry]
+fn main() -> ! {
+    let mut cp = cortex_m::Peripherals::take().unwrap_or_else(|| {
+        debug::exit(debug::EXIT_FAILURE);
+        loop {}
+    });
+    let syst = &mut cp.SYST;
+    syst.set_clock_source(SystClkSource::Core);
+    syst.set_reload(0x00FF_FFFF);
+    syst.clear_current();
+    syst.enable_counter();
+
+    // calibration: SysTick counts per instruction under -icount
+    let t0 = SYST::get_current();
+    let t1 = SYST::get_current();
+    let empty = elapsed(t0, t1);
+    let t0 = SYST::get_current();
+    nop100();
+    nop100();
+    nop100();
+    nop100();
+    nop100();
+    nop100();
+    nop100();
+    nop100();
+    nop100();
+    nop100();
+    let t1 = SYST::get_current();
+    let per_1000 = elapsed(t0, t1).saturating_sub(empty).max(1);
+
+    let model = FrictionModel::plain(LugreParams::<f32>::table2());
+    let config = ControllerConfig::for_simulated_axis(model, Features::FULL);
+    let mut ctrl = Controller::new(config);
+    let mut plant = plant::Plant::new(0.25);
+    let (amp, w) = (0.002f32, 2.0 * core::f32::consts::PI * 0.5);
+    let n = 4000;
+    let (mut sum_sq, mut max_err, mut count) = (0.0f32, 0.0f32, 0u32);
+    let (mut worst_ticks, mut total_ticks) = (0u32, 0u64);
+    let mut faults = 0u32;
+    for k in 0..n {
+        let t = k as f32 * 1e-3;
+        let (s, c) = (libm::sinf(w * t), libm::cosf(w * t));
+        let r = Reference {
+            position_m: 0.25 + amp * s,
+            velocity_m_per_s: amp * w * c,
+            acceleration_m_per_s2: -amp * w * w * s,
+        };
+        // 0.1 um encoder
+        let m = Measurements {
+            position_m: libm::roundf(plant.x * 1e7) * 1e-7,
+            pressure_a_pa: plant.pa,
+            pressure_b_pa: plant.pb,
+            temperature_c: None,
+        };
+        let t0 = SYST::get_current();
+        let out = ctrl.tick(&m, &r);
+        let t1 = SYST::get_current();
+        let ticks = elapsed(t0, t1).saturating_sub(empty);
+        worst_ticks = worst_ticks.max(ticks);
+        total_ticks += ticks as u64;
+        if !out.faults.is_empty() {
+            faults += 1;
+            #[cfg(feature = "defmt")]
+            defmt::warn!("faults {}", out.faults);
+        }
+        write_valve(out.valve_command);
+        plant.advance(f32::from_bits(VALVE.load(Ordering::SeqCst)));
+        if k >= 500 {
+            let tn = (k + 1) as f32 * 1e-3;
+            let e = 0.25 + amp * libm::sinf(w * tn) - plant.x;
+            sum_sq += e * e;
+            max_err = max_err.max(e.abs());
+            count += 1;
+        }
+    }
+    let rms = libm::sqrtf(sum_sq / count as f32);
+    let mean_instr = (total_ticks as f32 / n as f32) * 1000.0 / per_1000 as f32;
+    let worst_instr = worst_ticks as f32 * 1000.0 / per_1000 as f32;
+    hprintln!(
+        "calibration: {} SysTick counts per 1000 instructions",
+        per_1000
+    );
+    hprintln!(
+        "controller tick: mean {} instructions, worst {}",
+        mean_instr as u32,
+        worst_instr as u32
+    );
+    hprintln!(
+        "tracking 2 mm / 0.5 Hz: rms {} um, max {} um, fault periods {}",
+        (rms * 1e6) as u32,
+        (max_err * 1e6) as u32,
+        faults
+    );
+    let ok = rms < 20e-6 && max_err < 80e-6 && faults == 0;
+    hprintln!("{}", if ok { "PASS" } else { "FAIL" });
+    debug::exit(if ok {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
+    loop {}
+}
