@@ -33,7 +33,9 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     write_valve(0.0);
     hprintln!("PANIC: valve set to null");
     debug::exit(debug::EXIT_FAILURE);
-    loop {}
+    loop {
+        cortex_m::asm::wfi();
+    }
 }
 
 /// SysTick counts elapsed (it counts down, 24 bits).
@@ -73,7 +75,9 @@ fn nop100() {
 fn main() -> ! {
     let mut cp = cortex_m::Peripherals::take().unwrap_or_else(|| {
         debug::exit(debug::EXIT_FAILURE);
-        loop {}
+        loop {
+            cortex_m::asm::wfi();
+        }
     });
     let syst = &mut cp.SYST;
     syst.set_clock_source(SystClkSource::Core);
@@ -169,5 +173,7 @@ fn main() -> ! {
     } else {
         debug::EXIT_FAILURE
     });
-    loop {}
+    loop {
+        cortex_m::asm::wfi();
+    }
 }

@@ -11,7 +11,8 @@
 //! **Budget.** Every algorithm gets `P m = 40 x 500 = 20 000` evaluations per stage (the
 //! GA's population of 40 for `m = 500` generations); CMA-ES (crate `cmaes`, default settings,
 //! initial mean at the centre of the normalised box, step 0.3) gets the same maximum, on the
-//! same normalised objective (genes clamped to [0, 1], plus a quadratic penalty outside).
+//! same normalised objective; its samples are reflected into [0, 1] at the box faces (clamping
+//! made a flat plateau at `Fs - Fc = 0` that default CMA-ES converged onto).
 //!
 //! **evaluations_to_1pct** = (evaluations of the static stage until its best individual first
 //! has Fc, Fs - Fc, sigma2 and vs within 1 %) + (the same for sigma0 and sigma1 in the dynamic
@@ -225,6 +226,9 @@ pub struct RunResult {
     pub evaluations: usize,
     /// See the module docs.
     pub evaluations_to_1pct: Option<usize>,
+    /// The same count for the five parameters a 1 kHz experiment can identify (all but
+    /// sigma1, see the README): how fast each algorithm gets there.
+    pub evaluations_to_1pct_excl_sigma1: Option<usize>,
     /// Wall time [s].
     pub wall_s: f64,
     /// Final static and dynamic costs.
@@ -279,39 +283,46 @@ fn rel(a: f64, b: f64) -> f64 {
     100.0 * (a - b).abs() / b.abs().max(1e-300)
 }
 
+/// Evaluations until two conditions first held for the best individual.
+type FirstHits = [Option<usize>; 2];
+
 /// Stage minimiser: returns (best genes, best cost, evaluations used, evaluations until
-/// `good` first held for the best).
+/// `good[0]` and `good[1]` first held for the best).
 fn minimise<const N: usize>(
     algorithm: Algorithm,
     seed: u64,
     cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
-    good: &dyn Fn(&[f64; N]) -> bool,
-) -> ([f64; N], f64, usize, Option<usize>) {
+    good: [&dyn Fn(&[f64; N]) -> bool; 2],
+) -> ([f64; N], f64, usize, FirstHits) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    let mut first_good = None;
+    let mut first_good = [None, None];
     match algorithm {
         Algorithm::Cmaes => {
             let evals = std::cell::Cell::new(0usize);
             let best = std::cell::RefCell::new(([0.5; N], f64::INFINITY));
-            let first = std::cell::Cell::new(None);
+            let first = std::cell::Cell::new([None, None]);
             let objective = |x: &cmaes::DVector<f64>| {
+                // reflection at the box faces (a triangle wave of period 2): unlike clamping,
+                // it leaves no flat plateau at a bound for the search to settle on
                 let mut g = [0.0; N];
-                let mut penalty = 0.0;
                 for k in 0..N {
-                    let c = x[k].clamp(0.0, 1.0);
-                    penalty += (x[k] - c) * (x[k] - c);
-                    g[k] = c;
+                    let m = x[k].rem_euclid(2.0);
+                    g[k] = if m > 1.0 { 2.0 - m } else { m };
                 }
                 let c = cost(&g);
                 evals.set(evals.get() + 1);
                 let mut b = best.borrow_mut();
                 if c < b.1 {
                     *b = (g, c);
-                    if first.get().is_none() && good(&g) {
-                        first.set(Some(evals.get()));
+                    let mut f = first.get();
+                    for (slot, ok) in f.iter_mut().zip(good) {
+                        if slot.is_none() && ok(&g) {
+                            *slot = Some(evals.get());
+                        }
                     }
+                    first.set(f);
                 }
-                c + 1e3 * penalty
+                c
             };
             if let Ok(mut state) = cmaes::CMAESOptions::new(vec![0.5; N], 0.3)
                 .max_function_evals(BUDGET)
@@ -338,8 +349,10 @@ fn minimise<const N: usize>(
                 costs.copy_from_slice(&costs_vec);
                 evals += POPULATION;
                 ga.tell(&costs, &mut rng);
-                if first_good.is_none() && good(ga.best().0) {
-                    first_good = Some(evals);
+                for (slot, ok) in first_good.iter_mut().zip(good) {
+                    if slot.is_none() && ok(ga.best().0) {
+                        *slot = Some(evals);
+                    }
                 }
             }
             let (g, c) = ga.best();
@@ -366,7 +379,8 @@ pub fn identify(
             && rel(v[2], t[2]) < 1.0
             && rel(v[3], t[5]) < 1.0
     };
-    let (gs, cs, es, fs) = minimise::<4>(algorithm, seed, &static_cost, &static_good);
+    let (gs, cs, es, [fs, _]) =
+        minimise::<4>(algorithm, seed, &static_cost, [&static_good, &static_good]);
     let sv = STATIC_BOUNDS.decode(&gs);
     let rec = DynamicRecord {
         velocity: &data.velocity,
@@ -379,11 +393,15 @@ pub fn identify(
         let v = DYNAMIC_BOUNDS.decode(g);
         rel(v[0], t[0]) < 1.0 && rel(v[1], t[1]) < 1.0
     };
-    let (gd, cd, ed, fd) = minimise::<2>(
+    let sigma0_good = |g: &[f64; 2]| {
+        let Some(t) = t else { return false };
+        rel(DYNAMIC_BOUNDS.decode(g)[0], t[0]) < 1.0
+    };
+    let (gd, cd, ed, [fd, fd0]) = minimise::<2>(
         algorithm,
         seed.wrapping_add(0x5eed),
         &dynamic_cost,
-        &dynamic_good,
+        [&dynamic_good, &sigma0_good],
     );
     let dv = DYNAMIC_BOUNDS.decode(&gd);
     let values = [dv[0], dv[1], sv[2], sv[0], sv[1], sv[3]];
@@ -415,6 +433,10 @@ pub fn identify(
         errors_pct,
         evaluations: es + ed,
         evaluations_to_1pct: match (fs, fd) {
+            (Some(a), Some(b)) => Some(a + b),
+            _ => None,
+        },
+        evaluations_to_1pct_excl_sigma1: match (fs, fd0) {
             (Some(a), Some(b)) => Some(a + b),
             _ => None,
         },

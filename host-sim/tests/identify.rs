@@ -1,0 +1,138 @@
+//! Identification: determinism, the improved GA against the traditional one, bad files.
+
+use host_sim::identify::{self, Algorithm};
+use host_sim::params_file::ParamFile;
+use host_sim::record::Record;
+use lugre_servo::friction::LugreParams;
+use std::path::Path;
+
+#[test]
+fn deterministic_for_a_seed() {
+    let truth = LugreParams::table2();
+    let data = identify::ideal_data(&truth);
+    let a = identify::identify(Algorithm::Improved, &data, 5, Some(&truth));
+    let b = identify::identify(Algorithm::Improved, &data, 5, Some(&truth));
+    assert_eq!(a.values, b.values);
+    let c = identify::identify(Algorithm::Improved, &data, 6, Some(&truth));
+    assert_ne!(a.values, c.values);
+}
+
+#[test]
+fn improved_beats_traditional_on_the_objective() {
+    let truth = LugreParams::table2();
+    let data = identify::ideal_data(&truth);
+    for seed in 1..=3 {
+        let imp = identify::identify(Algorithm::Improved, &data, seed, Some(&truth));
+        let tra = identify::identify(Algorithm::Traditional, &data, seed, Some(&truth));
+        println!(
+            "seed {seed}: static cost improved {:.2e} traditional {:.2e}",
+            imp.costs.0, tra.costs.0
+        );
+        assert!(
+            imp.costs.0 < tra.costs.0,
+            "seed {seed}: static {} vs {}",
+            imp.costs.0,
+            tra.costs.0
+        );
+        assert!(
+            imp.costs.1 <= tra.costs.1,
+            "seed {seed}: dynamic {} vs {}",
+            imp.costs.1,
+            tra.costs.1
+        );
+        // the paper's claim for the static parameters and sigma0: within 1 % (sigma1 is not
+        // identifiable from 1 kHz friction data at this stiffness, see the README)
+        let e = imp.errors_pct.unwrap();
+        for (name, v) in [
+            ("Fc", e.fc),
+            ("Fs-Fc", e.fs_minus_fc),
+            ("sigma2", e.sigma2),
+            ("vs", e.vs),
+            ("sigma0", e.sigma0),
+        ] {
+            assert!(v < 1.0, "seed {seed}: {name} off by {v} %");
+        }
+    }
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn bad_parameter_files_are_refused_with_the_field() {
+    let dir = std::env::temp_dir().join(format!("lugre-params-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = "[lugre]\nbristle_stiffness_n_per_m = 3.9e9\nbristle_damping_n_s_per_m = 200.0\nviscous_coefficient_n_s_per_m = 48900.0\ncoulomb_force_n = 506.0\nstatic_force_n = 632.0\nstribeck_velocity_m_per_s = 0.005\n[axis]\nmoving_mass_kg = 200.0\n";
+    assert!(ParamFile::read(&write(&dir, "good.toml", good)).is_ok());
+    let cases = [
+        (
+            good.replace("static_force_n = 632.0", "static_force_n = 400.0"),
+            "static_force (Fs)",
+        ),
+        (
+            good.replace("coulomb_force_n = 506.0", "coulomb_force_n = nan"),
+            "coulomb_force (Fc) [N] must be a finite number",
+        ),
+        (
+            good.replace(
+                "stribeck_velocity_m_per_s = 0.005",
+                "stribeck_velocity_m_per_s = -1",
+            ),
+            "stribeck_velocity",
+        ),
+        (
+            good.replace("moving_mass_kg = 200.0", "moving_mass_kg = 0"),
+            "moving_mass_kg",
+        ),
+        (
+            good.replace("coulomb_force_n = 506.0\n", ""),
+            "coulomb_force_n",
+        ),
+        (
+            good.replace("[axis]", "[axis]\nmoving_mass_lb = 3"),
+            "moving_mass_lb",
+        ),
+        (
+            format!("{good}[effects.asymmetry]\ncoulomb_ratio = 1.5\nviscous_ratio = 0\n"),
+            "[effects.asymmetry] ratios",
+        ),
+        ("[lugre\n".to_string(), "bad.toml:1:"),
+    ];
+    for (text, want) in cases {
+        let e = ParamFile::read(&write(&dir, "bad.toml", &text)).unwrap_err();
+        assert!(
+            e.contains("bad.toml") && e.contains(want),
+            "want '{want}' in '{e}'"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_identification_data_is_refused() {
+    // a sweep without x_ref cannot be cut into constant-velocity legs
+    let rec = Record::parse("t,x,force\n0,0,1\n0.001,0,1\n", Path::new("s.csv")).unwrap();
+    let e = identify::steady_points_from_record(&rec, 200.0, "s.csv").unwrap_err();
+    assert!(e.contains("s.csv") && e.contains("x_ref"), "{e}");
+    // a sweep with x_ref but too few legs
+    let mut text = String::from("t,x,force,x_ref\n");
+    for i in 0..1000 {
+        text += &format!(
+            "{},{},{},{}\n",
+            i as f64 * 1e-3,
+            0.1,
+            500.0,
+            0.1 + 1e-5 * i as f64
+        );
+    }
+    let rec = Record::parse(&text, Path::new("s.csv")).unwrap();
+    let e = identify::steady_points_from_record(&rec, 200.0, "s.csv").unwrap_err();
+    assert!(e.contains("need 6 or more"), "{e}");
+    // a dynamic record without motion
+    let rec = Record::parse(&text.replace(",0.1,500", ",0.1,500"), Path::new("d.csv")).unwrap();
+    let e = identify::dynamic_from_record(&rec, 200.0).unwrap_err();
+    assert!(e.contains("no motion"), "{e}");
+}
