@@ -286,13 +286,16 @@ fn rel(a: f64, b: f64) -> f64 {
 /// Evaluations until two conditions first held for the best individual.
 type FirstHits = [Option<usize>; 2];
 
+/// A condition on a stage's best genes.
+type Condition<'a, const N: usize> = &'a dyn Fn(&[f64; N]) -> bool;
+
 /// Stage minimiser: returns (best genes, best cost, evaluations used, evaluations until
 /// `good[0]` and `good[1]` first held for the best).
 fn minimise<const N: usize>(
     algorithm: Algorithm,
     seed: u64,
     cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
-    good: [&dyn Fn(&[f64; N]) -> bool; 2],
+    good: [Condition<'_, N>; 2],
 ) -> ([f64; N], f64, usize, FirstHits) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
     let mut first_good = [None, None];
