@@ -257,9 +257,65 @@ pub fn sinusoid(
     rig.finish("sinusoid")
 }
 
-/// Trapezoidal velocity profile between `x0` and `x0 + distance`, with dwells at both ends.
-/// Returns (position, velocity) at time `t` within one period
-/// `2 * (move + dwell)` with `move = distance / v_max + v_max / accel`.
+/// A point-to-point move with a trapezoidal velocity profile (triangular when too short to
+/// reach the top speed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Move {
+    /// Distance [m] (> 0).
+    pub distance: f64,
+    /// Acceleration [m/s^2].
+    pub accel: f64,
+    t_acc: f64,
+    v_peak: f64,
+    t_flat: f64,
+}
+
+impl Move {
+    /// A move over `distance` [m] at up to `v_max` [m/s] with `accel` [m/s^2].
+    pub fn new(distance: f64, v_max: f64, accel: f64) -> Self {
+        let t_acc = v_max / accel;
+        let d_acc = 0.5 * accel * t_acc * t_acc;
+        let (t_acc, v_peak, t_flat) = if 2.0 * d_acc >= distance {
+            let t_acc = (distance / accel).sqrt();
+            (t_acc, accel * t_acc, 0.0)
+        } else {
+            (t_acc, v_max, (distance - 2.0 * d_acc) / v_max)
+        };
+        Self {
+            distance,
+            accel,
+            t_acc,
+            v_peak,
+            t_flat,
+        }
+    }
+
+    /// Duration [s].
+    pub fn duration(&self) -> f64 {
+        2.0 * self.t_acc + self.t_flat
+    }
+
+    /// (position from the start [m], velocity [m/s]) at time `s` into the move.
+    pub fn at(&self, s: f64) -> (f64, f64) {
+        let (a, t_acc, t_move) = (self.accel, self.t_acc, self.duration());
+        if s < t_acc {
+            (0.5 * a * s * s, a * s)
+        } else if s < t_acc + self.t_flat {
+            (
+                0.5 * a * t_acc * t_acc + self.v_peak * (s - t_acc),
+                self.v_peak,
+            )
+        } else if s < t_move {
+            let r = t_move - s;
+            (self.distance - 0.5 * a * r * r, a * r)
+        } else {
+            (self.distance, 0.0)
+        }
+    }
+}
+
+/// Trapezoidal moves between `x0` and `x0 + distance` and back, with dwells at both ends:
+/// (position from `x0`, velocity) at time `t` within the period `2 (move + dwell)`.
 pub fn trapezoid_reference(
     t: f64,
     distance: f64,
@@ -267,34 +323,13 @@ pub fn trapezoid_reference(
     accel: f64,
     dwell: f64,
 ) -> (f64, f64) {
-    let t_acc = v_max / accel;
-    let d_acc = 0.5 * accel * t_acc * t_acc;
-    let (t_acc, v_peak, t_flat) = if 2.0 * d_acc >= distance {
-        let t_acc = (distance / accel).sqrt();
-        (t_acc, accel * t_acc, 0.0)
-    } else {
-        (t_acc, v_max, (distance - 2.0 * d_acc) / v_max)
-    };
-    let t_move = 2.0 * t_acc + t_flat;
-    let period = 2.0 * (t_move + dwell);
-    let tau = t.rem_euclid(period);
-    let profile = |s: f64| -> (f64, f64) {
-        if s < t_acc {
-            (0.5 * accel * s * s, accel * s)
-        } else if s < t_acc + t_flat {
-            let d = 0.5 * accel * t_acc * t_acc;
-            (d + v_peak * (s - t_acc), v_peak)
-        } else if s < t_move {
-            let r = t_move - s;
-            (distance - 0.5 * accel * r * r, accel * r)
-        } else {
-            (distance, 0.0)
-        }
-    };
+    let mv = Move::new(distance, v_max, accel);
+    let t_move = mv.duration();
+    let tau = t.rem_euclid(2.0 * (t_move + dwell));
     if tau < t_move + dwell {
-        profile(tau)
+        mv.at(tau)
     } else {
-        let (x, v) = profile(tau - t_move - dwell);
+        let (x, v) = mv.at(tau - t_move - dwell);
         (distance - x, -v)
     }
 }

@@ -1,7 +1,7 @@
 //! Named plant variants: each extra physical effect switched on at a chosen strength, and the
 //! composite experiment used to diagnose them.
 
-use crate::experiments::{Rig, Setpoint, PERIOD_S};
+use crate::experiments::{Move, Rig, Setpoint, PERIOD_S};
 use crate::plant::{PlantConfig, SensorConfig};
 use crate::record::Record;
 use lugre_servo::friction::effects as fx;
@@ -99,28 +99,10 @@ pub fn diagnosis_run(cfg: &PlantConfig, sensors: SensorConfig, duration: f64) ->
         let dist = (target - x).clamp(-(speed * 2.5 + 0.002), speed * 2.5 + 0.002);
         let target = x + dist;
         let dir = dist.signum();
-        let t_acc = speed / accel;
-        let d_acc = 0.5 * accel * t_acc * t_acc;
-        let (t_acc, peak, t_flat) = if 2.0 * d_acc >= dist.abs() {
-            let ta = (dist.abs() / accel).sqrt();
-            (ta, accel * ta, 0.0)
-        } else {
-            (t_acc, speed, (dist.abs() - 2.0 * d_acc) / speed)
-        };
-        let t_move = 2.0 * t_acc + t_flat;
-        let steps = (t_move / PERIOD_S).ceil() as usize;
+        let mv = Move::new(dist.abs().max(1e-9), speed, accel);
+        let steps = (mv.duration() / PERIOD_S).ceil() as usize;
         for i in 0..steps {
-            let s = (i + 1) as f64 * PERIOD_S;
-            let (d, v) = if s < t_acc {
-                (0.5 * accel * s * s, accel * s)
-            } else if s < t_acc + t_flat {
-                (0.5 * accel * t_acc * t_acc + peak * (s - t_acc), peak)
-            } else if s < t_move {
-                let r = t_move - s;
-                (dist.abs() - 0.5 * accel * r * r, accel * r)
-            } else {
-                (dist.abs(), 0.0)
-            };
+            let (d, v) = mv.at((i + 1) as f64 * PERIOD_S);
             rig.tick(Setpoint::Position {
                 x: x + dir * d,
                 v: dir * v,

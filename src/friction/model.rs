@@ -126,13 +126,7 @@ impl<T: Float> FrictionModel<T> {
     /// including the offset.
     pub fn steady_state_force(&self, velocity: T, c: &Conditions<T>) -> T {
         let l = self.levels(velocity, c, T::zero());
-        let dir = if velocity > T::zero() {
-            T::one()
-        } else if velocity < T::zero() {
-            -T::one()
-        } else {
-            T::zero()
-        };
+        let dir = super::params::direction(velocity);
         self.stribeck_curve(velocity, &l) * dir
             + self.viscous_force(velocity, &l)
             + self.offset_force()

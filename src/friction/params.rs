@@ -250,14 +250,19 @@ impl<T: Float> LugreParams<T> {
     /// Steady-state friction at constant velocity, `Fss(v) = g(v) sign(v) + sigma2 v` [N]
     /// (zero at v = 0).
     pub fn steady_state_force(&self, velocity: T) -> T {
-        let dir = if velocity > T::zero() {
-            T::one()
-        } else if velocity < T::zero() {
-            -T::one()
-        } else {
-            T::zero()
-        };
+        let dir = direction(velocity);
         self.stribeck_curve(velocity) * dir + self.viscous_coefficient * velocity
+    }
+}
+
+/// `sign(v)` with `sign(0) = 0` (friction at exact rest is not a sliding force).
+pub(crate) fn direction<T: Float>(velocity: T) -> T {
+    if velocity > T::zero() {
+        T::one()
+    } else if velocity < T::zero() {
+        -T::one()
+    } else {
+        T::zero()
     }
 }
 
