@@ -73,14 +73,13 @@ pub fn run(out: &Path) -> Result<(), String> {
             .map_err(|e| format!("{}: {e}", path.display()))?;
         println!("  wrote {}", path.display());
     }
-    let x_pre = ramp
-        .x
-        .iter()
-        .fold(0.0f64, |m, &x| m.max((x - ramp.x[0]).abs()));
+    let lo = ramp.x.iter().cloned().fold(f64::INFINITY, f64::min);
+    let hi = ramp.x.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     println!(
-        "  pre-sliding ramp to 0.7 Fs: peak displacement {:.3} um (sigma0 predicts {:.3} um; encoder 0.1 um)",
-        x_pre * 1e6,
-        0.7 * p.static_force() / p.bristle_stiffness() * 1e6
+        "  pre-sliding ramp between +-0.7 Fs: displacement range {:.2} um (LuGre predicts ~{:.2} um: \
+         2 x 0.7 Fs / sigma0, a little more as the bristles yield; encoder steps of 0.1 um)",
+        (hi - lo) * 1e6,
+        2.0 * 0.7 * p.static_force() / p.bristle_stiffness() * 1e6
     );
     println!(
         "  simulated {sim_s:.1} s in {wall_s:.2} s wall ({:.0}x real time)",
