@@ -135,11 +135,6 @@ pub struct Conditions<T> {
 }
 
 impl<T: Float> Effects<T> {
-    /// True when no effect is switched on.
-    pub fn is_plain(&self) -> bool {
-        *self == Self::none()
-    }
-
     /// No effect switched on.
     pub const fn none() -> Self {
         Self {

@@ -2,7 +2,7 @@
 //! compensator share.
 
 use super::effects::{Conditions, Effects};
-use super::lugre::bristle_step;
+use super::lugre::driven_bristle_step;
 use super::LugreParams;
 use num_traits::Float;
 
@@ -152,6 +152,24 @@ impl<T: Float> FrictionModel<T> {
         c: &Conditions<T>,
         dt: T,
     ) -> T {
+        self.step_driven(s, mean_velocity, mean_velocity, velocity, c, dt)
+    }
+
+    /// As [`Self::step_split`], with the bristle equation driven by `drive`
+    /// (`dz/dt = drive - sigma0 |v| z / g(v)`): the mean velocity itself in the model, the mean
+    /// velocity plus an error correction in an observer. The state is projected onto
+    /// `|z| <= Fs / sigma0` at the current levels, the invariant set of the true state: a
+    /// no-op for the model (the exact step keeps `z` inside), and what keeps an observer bounded
+    /// at standstill, where the decay vanishes and the correction keeps driving.
+    pub fn step_driven(
+        &self,
+        s: &mut FrictionState<T>,
+        drive: T,
+        mean_velocity: T,
+        velocity: T,
+        c: &Conditions<T>,
+        dt: T,
+    ) -> T {
         if let Some(d) = self.effects.dwell_stiction {
             // Timer runs while stuck, is frozen through the Stribeck region (so the breakaway
             // sees the full dwell), and resets once the axis slides.
@@ -166,10 +184,19 @@ impl<T: Float> FrictionModel<T> {
         let l = self.levels(mean_velocity, c, s.dwell_time);
         let g = self.stribeck_curve(mean_velocity, &l);
         let sigma0 = self.params.bristle_stiffness();
-        let b = bristle_step(s.z, mean_velocity, sigma0, g, dt);
-        let l = self.levels(velocity, c, s.dwell_time);
-        s.z = b.deflection;
-        sigma0 * b.deflection
+        let b = driven_bristle_step(s.z, drive, mean_velocity, sigma0, g, dt);
+        let bound = l.static_ / sigma0;
+        // max/min rather than clamp: no panic even for a non-finite bound
+        let z = b.deflection.max(-bound).min(bound);
+        s.z = z;
+        // the levels depend on the velocity only through the direction of `asymmetry`
+        let crossed = (velocity >= T::zero()) != (mean_velocity >= T::zero());
+        let l = if self.effects.asymmetry.is_some() && crossed {
+            self.levels(velocity, c, s.dwell_time)
+        } else {
+            l
+        };
+        sigma0 * z
             + self.params.bristle_damping() * b.deflection_rate
             + self.viscous_force(velocity, &l)
             + self.offset_force()

@@ -36,8 +36,6 @@ pub enum Param {
     Static,
     /// sigma2 [N s/m].
     Viscous,
-    /// vs [m/s] (nonlinear: linearised by its analytic derivative).
-    StribeckVelocity,
     /// asymmetry rc [-].
     AsymCoulomb,
     /// asymmetry rv [-].
@@ -62,7 +60,6 @@ impl Param {
             Param::Coulomb => "coulomb_force_n",
             Param::Static => "static_force_n",
             Param::Viscous => "viscous_coefficient_n_s_per_m",
-            Param::StribeckVelocity => "stribeck_velocity_m_per_s",
             Param::AsymCoulomb => "coulomb_ratio",
             Param::AsymViscous => "viscous_ratio",
             Param::Offset => "force_n",
@@ -241,7 +238,6 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
         Param::Coulomb => q.coulomb_force(),
         Param::Static => q.static_force(),
         Param::Viscous => q.viscous_coefficient(),
-        Param::StribeckVelocity => q.stribeck_velocity(),
         Param::AsymCoulomb => e.asymmetry.map_or(0.0, |a| a.coulomb_ratio),
         Param::AsymViscous => e.asymmetry.map_or(0.0, |a| a.viscous_ratio),
         Param::Offset => e.offset.map_or(0.0, |o| o.force),
@@ -351,7 +347,6 @@ fn linear_step(
                 Param::Coulomb => tau_c * (1.0 + d * rc) * (1.0 - ex) * s,
                 Param::Static => tau_c * (1.0 + d * rc) * ex * s,
                 Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
-                Param::StribeckVelocity => 0.0, // searched on grids, not linearised
                 Param::AsymCoulomb => tau_c * d * level * s,
                 Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                 Param::Offset => 1.0,
@@ -456,16 +451,13 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
     let s2 = get(Param::Viscous)
         .unwrap_or(old.viscous_coefficient())
         .max(0.0);
-    let vs = get(Param::StribeckVelocity)
-        .unwrap_or(old.stribeck_velocity())
-        .clamp(1e-5, 1.0);
     let params = LugreParams::new(
         old.bristle_stiffness(),
         old.bristle_damping(),
         s2,
         fc,
         fs,
-        vs,
+        old.stribeck_velocity(),
     )
     .unwrap_or(*old);
     let mut effects = m.friction.effects;

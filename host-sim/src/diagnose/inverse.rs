@@ -166,19 +166,6 @@ impl Prepared {
         100.0 * self.weighted_rss(predicted).sqrt() / self.force_norm
     }
 
-    /// The same error over every sample, stuck ones included [%].
-    pub fn rel_err_all_pct(&self, predicted: &[f64]) -> f64 {
-        let p = self.parallel.filtfilt(predicted);
-        let r = self
-            .force
-            .iter()
-            .zip(&p)
-            .map(|(f, q)| (f - q) * (f - q))
-            .sum::<f64>()
-            .sqrt();
-        100.0 * r / self.force_norm_all
-    }
-
     /// Residual sum of squares over the scored samples [N^2].
     pub fn weighted_rss(&self, predicted: &[f64]) -> f64 {
         self.weighted_rss_filtered(&self.parallel.filtfilt(predicted))
@@ -194,7 +181,8 @@ impl Prepared {
             .sum()
     }
 
-    /// [`Self::rel_err_all_pct`] of an already filtered prediction.
+    /// Relative force error over every sample, stuck ones included, of an already filtered
+    /// prediction [%].
     pub fn rel_err_all_pct_filtered(&self, filtered: &[f64]) -> f64 {
         let r = self
             .force

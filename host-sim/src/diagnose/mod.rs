@@ -389,7 +389,7 @@ pub fn rank_candidates(
         let better = f.rss < out[i].fit.as_ref().map_or(f64::INFINITY, |g| g.rss);
         if let (Some(info), true) = (effect_info(&out[i].effect), better) {
             let (params, nl) = (out[i].parameters.clone(), out[i].nonlinear_excludes_null);
-            out[i] = judge(current, info, f, params, nl, n_eff, p);
+            out[i] = judge(current, info, f, params, nl, n_eff);
         }
     }
     // Final verdict for every candidate: the noise is judged from the larger model's residual
@@ -407,7 +407,6 @@ pub fn rank_candidates(
                     c.parameters.clone(),
                     c.nonlinear_excludes_null,
                     n_c,
-                    p,
                 )
             }
             _ => c.clone(),
@@ -491,7 +490,6 @@ fn score(
         cand.parameters.clone(),
         nonlinear_ci,
         n_eff,
-        p,
     )
 }
 
@@ -504,11 +502,7 @@ fn judge(
     parameters: Vec<ParamReport>,
     nonlinear_excludes_null: bool,
     n_eff: f64,
-    p: &Prepared,
 ) -> Candidate {
-    // `n_eff` is the bandwidth count when screening; the final verdict passes the count from
-    // the candidate's own residual (see `rank_candidates`)
-    let _ = p;
     let mut parameters: Vec<ParamReport> = parameters
         .into_iter()
         .filter(|q| info.nonlinear.is_some_and(|(n, _, _)| n == q.name))
