@@ -144,6 +144,10 @@ pub struct FitSection {
     pub rel_err_pct: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub source: Option<String>,
+    /// Parameters the data could not determine (their value is then the posterior mean over
+    /// the search range, see `host_sim::identify`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub not_identifiable: Vec<String>,
 }
 
 /// The whole file.

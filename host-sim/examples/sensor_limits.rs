@@ -1,0 +1,31 @@
+//! scratch
+use host_sim::identify::*;
+use host_sim::plant::{PlantConfig, SensorConfig};
+use host_sim::experiments;
+use lugre_servo::friction::LugreParams;
+use lugre_servo::identify::cost::SteadyPoint;
+fn data(cfg: &PlantConfig, sensors: SensorConfig) -> IdentData {
+    let (_, pts) = experiments::velocity_sweep(cfg, sensors, &sweep_speeds());
+    let rec = experiments::sinusoid(cfg, sensors, 0.0006, 0.5, 2.0);
+    let mut d = dynamic_from_record(&rec, cfg.cylinder.moving_mass_kg).unwrap();
+    d.points = pts.iter().map(|p| SteadyPoint { velocity: p.velocity, force: p.force }).collect();
+    d
+}
+fn main() {
+    let cfg = PlantConfig::default();
+    let truth = LugreParams::table2();
+    let r = SensorConfig::realistic(1);
+    for (name, s) in [
+        ("realistic", r),
+        ("encoder 10 nm", SensorConfig { encoder_resolution_m: 1e-8, ..r }),
+        ("encoder 1 nm", SensorConfig { encoder_resolution_m: 1e-9, ..r }),
+        ("no pressure noise", SensorConfig { pressure_noise_pa: 0.0, ..r }),
+        ("no delay", SensorConfig { delay_samples: 0, ..r }),
+        ("ideal sensors", SensorConfig::ideal()),
+    ] {
+        let d = data(&cfg, s);
+        let res = identify(Algorithm::Improved, &d, 1, Some(&truth));
+        let e = res.errors_pct.unwrap();
+        println!("{name:18} s0 {:7.3}% s1 {:7.2}% s2 {:6.3}% fc {:6.3}% dfs {:6.3}% vs {:6.3}%  s1 ident {:?}", e.sigma0, e.sigma1, e.sigma2, e.fc, e.fs_minus_fc, e.vs, res.identifiability[1].map(|i| (i.identifiable, i.interval95)));
+    }
+}
