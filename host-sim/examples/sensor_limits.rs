@@ -1,14 +1,23 @@
-//! scratch
+//! Which sensor limits which parameter: the realistic identification (improved GA, seed 1)
+//! repeated with one sensor made better at a time.
+//!
+//! `cargo run --release -p host-sim --example sensor_limits`
+use host_sim::experiments;
 use host_sim::identify::*;
 use host_sim::plant::{PlantConfig, SensorConfig};
-use host_sim::experiments;
 use lugre_servo::friction::LugreParams;
 use lugre_servo::identify::cost::SteadyPoint;
 fn data(cfg: &PlantConfig, sensors: SensorConfig) -> IdentData {
     let (_, pts) = experiments::velocity_sweep(cfg, sensors, &sweep_speeds());
     let rec = experiments::sinusoid(cfg, sensors, 0.0006, 0.5, 2.0);
     let mut d = dynamic_from_record(&rec, cfg.cylinder.moving_mass_kg).unwrap();
-    d.points = pts.iter().map(|p| SteadyPoint { velocity: p.velocity, force: p.force }).collect();
+    d.points = pts
+        .iter()
+        .map(|p| SteadyPoint {
+            velocity: p.velocity,
+            force: p.force,
+        })
+        .collect();
     d
 }
 fn main() {
@@ -17,10 +26,34 @@ fn main() {
     let r = SensorConfig::realistic(1);
     for (name, s) in [
         ("realistic", r),
-        ("encoder 10 nm", SensorConfig { encoder_resolution_m: 1e-8, ..r }),
-        ("encoder 1 nm", SensorConfig { encoder_resolution_m: 1e-9, ..r }),
-        ("no pressure noise", SensorConfig { pressure_noise_pa: 0.0, ..r }),
-        ("no delay", SensorConfig { delay_samples: 0, ..r }),
+        (
+            "encoder 10 nm",
+            SensorConfig {
+                encoder_resolution_m: 1e-8,
+                ..r
+            },
+        ),
+        (
+            "encoder 1 nm",
+            SensorConfig {
+                encoder_resolution_m: 1e-9,
+                ..r
+            },
+        ),
+        (
+            "no pressure noise",
+            SensorConfig {
+                pressure_noise_pa: 0.0,
+                ..r
+            },
+        ),
+        (
+            "no delay",
+            SensorConfig {
+                delay_samples: 0,
+                ..r
+            },
+        ),
         ("ideal sensors", SensorConfig::ideal()),
     ] {
         let d = data(&cfg, s);

@@ -19,8 +19,8 @@
 //! stage), or null if either never gets there: as if each stage stopped as soon as it was good
 //! enough, applied equally to every algorithm.
 
-use crate::diagnose::inverse::{Prepared, Protocol};
 use crate::diagnose::fit::integrated_autocorrelation_time;
+use crate::diagnose::inverse::{Prepared, Protocol};
 use crate::experiments;
 use crate::plant::{PlantConfig, SensorConfig};
 use crate::record::Record;
@@ -99,9 +99,10 @@ pub fn sweep_speeds() -> Vec<f64> {
 /// `sigma1 dz/dt` is tiny next to `sigma0 z`. In pre-sliding `z` follows the displacement and
 /// `dz/dt` the velocity, a quarter period apart, so the two parameters' effects are nearly
 /// orthogonal; through reversals they are 92 % correlated. Measured (Gauss-Newton
-/// information of the normalised cost, relative parameter units): the sigma1 information grows
-/// from 2.1e-13 (30 um/s, 1 Hz sinusoid) to 7.5e-10, the sigma0-sigma1 correlation falls from
-/// 0.92 to 0.55, and the sigma1 error that a given sigma0 error causes falls 20-fold.
+/// information of the normalised cost, relative parameter units), against the earlier 30 um/s,
+/// 1 Hz sinusoid: the sigma0-sigma1 correlation falls from 0.92 to 0.55, the sigma1 error that
+/// a given sigma0 error causes falls 20-fold (3.3e5 to 1.7e4 per unit) and the sigma1 error at a
+/// given cost resolution 150-fold (5.7e6 to 3.7e4 per unit).
 pub fn dynamic_displacement(t: f64) -> f64 {
     const AMPLITUDE_M: f64 = 0.15e-6;
     const FREQUENCY_HZ: f64 = 100.0;
@@ -177,10 +178,9 @@ pub fn dynamic_from_record(rec: &Record, mass: f64) -> Result<IdentData, String>
         .zip(&p.a)
         .map(|(f, a)| f - mass * a)
         .collect();
-    let mut velocity = vec![0.0; rec.x.len()];
-    for i in 1..rec.x.len() {
-        velocity[i] = (rec.x[i] - rec.x[i - 1]) / p.dt;
-    }
+    let velocity: Vec<f64> = std::iter::once(0.0)
+        .chain(rec.x.windows(2).map(|w| (w[1] - w[0]) / p.dt))
+        .collect();
     Ok(IdentData {
         points: vec![],
         velocity,
@@ -315,11 +315,11 @@ pub struct RunResult {
     pub evaluations: usize,
     /// See the module docs.
     pub evaluations_to_1pct: Option<usize>,
-    /// The same count for the five parameters a 1 kHz experiment can identify (all but
-    /// sigma1, see the README): how fast each algorithm gets there.
-    pub evaluations_to_1pct_excl_sigma1: Option<usize>,
     /// Wall time [s].
     pub wall_s: f64,
+    /// `evaluations_to_1pct` per stage (static, dynamic).
+    #[serde(skip)]
+    pub stage_evaluations_to_1pct: [Option<usize>; 2],
     /// Final static and dynamic costs.
     #[serde(skip)]
     pub costs: (f64, f64),
@@ -375,27 +375,24 @@ fn rel(a: f64, b: f64) -> f64 {
     100.0 * (a - b).abs() / b.abs().max(1e-300)
 }
 
-/// Evaluations until two conditions first held for the best individual.
-type FirstHits = [Option<usize>; 2];
-
 /// A condition on a stage's best genes.
 type Condition<'a, const N: usize> = &'a dyn Fn(&[f64; N]) -> bool;
 
 /// Stage minimiser: returns (best genes, best cost, evaluations used, evaluations until
-/// `good[0]` and `good[1]` first held for the best).
+/// `good` first held for the best).
 fn minimise<const N: usize>(
     algorithm: Algorithm,
     seed: u64,
     cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
-    good: [Condition<'_, N>; 2],
-) -> ([f64; N], f64, usize, FirstHits) {
+    good: Condition<'_, N>,
+) -> ([f64; N], f64, usize, Option<usize>) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    let mut first_good = [None, None];
+    let mut first_good = None;
     match algorithm {
         Algorithm::Cmaes => {
             let evals = std::cell::Cell::new(0usize);
             let best = std::cell::RefCell::new(([0.5; N], f64::INFINITY));
-            let first = std::cell::Cell::new([None, None]);
+            let first = std::cell::Cell::new(None);
             let objective = |x: &cmaes::DVector<f64>| {
                 // reflection at the box faces (a triangle wave of period 2): unlike clamping,
                 // it leaves no flat plateau at a bound for the search to settle on
@@ -409,13 +406,9 @@ fn minimise<const N: usize>(
                 let mut b = best.borrow_mut();
                 if c < b.1 {
                     *b = (g, c);
-                    let mut f = first.get();
-                    for (slot, ok) in f.iter_mut().zip(good) {
-                        if slot.is_none() && ok(&g) {
-                            *slot = Some(evals.get());
-                        }
+                    if first.get().is_none() && good(&g) {
+                        first.set(Some(evals.get()));
                     }
-                    first.set(f);
                 }
                 c
             };
@@ -444,10 +437,8 @@ fn minimise<const N: usize>(
                 costs.copy_from_slice(&costs_vec);
                 evals += POPULATION;
                 ga.tell(&costs, &mut rng);
-                for (slot, ok) in first_good.iter_mut().zip(good) {
-                    if slot.is_none() && ok(ga.best().0) {
-                        *slot = Some(evals);
-                    }
+                if first_good.is_none() && good(ga.best().0) {
+                    first_good = Some(evals);
                 }
             }
             let (g, c) = ga.best();
@@ -474,8 +465,7 @@ pub fn identify(
             && rel(v[2], t[2]) < 1.0
             && rel(v[3], t[5]) < 1.0
     };
-    let (gs, cs, es, [fs, _]) =
-        minimise::<4>(algorithm, seed, &static_cost, [&static_good, &static_good]);
+    let (gs, cs, es, fs) = minimise::<4>(algorithm, seed, &static_cost, &static_good);
     let sv = STATIC_BOUNDS.decode(&gs);
     let rec = DynamicRecord {
         velocity: &data.velocity,
@@ -488,15 +478,11 @@ pub fn identify(
         let v = DYNAMIC_BOUNDS.decode(g);
         rel(v[0], t[0]) < 1.0 && rel(v[1], t[1]) < 1.0
     };
-    let sigma0_good = |g: &[f64; 2]| {
-        let Some(t) = t else { return false };
-        rel(DYNAMIC_BOUNDS.decode(g)[0], t[0]) < 1.0
-    };
-    let (gd, cd, ed, [fd, fd0]) = minimise::<2>(
+    let (gd, cd, ed, fd) = minimise::<2>(
         algorithm,
         seed.wrapping_add(0x5eed),
         &dynamic_cost,
-        [&dynamic_good, &sigma0_good],
+        &dynamic_good,
     );
     // what the data says about each parameter; values the data does not bound become the
     // posterior mean
@@ -581,11 +567,8 @@ pub fn identify(
             (Some(a), Some(b)) => Some(a + b),
             _ => None,
         },
-        evaluations_to_1pct_excl_sigma1: match (fs, fd0) {
-            (Some(a), Some(b)) => Some(a + b),
-            _ => None,
-        },
         wall_s: wall.elapsed().as_secs_f64(),
+        stage_evaluations_to_1pct: [fs, fd],
         costs: (cs, cd),
         at_bound,
         identifiability: ident,
@@ -593,7 +576,11 @@ pub fn identify(
 }
 
 /// Residual `F_model - F` of the dynamic stage.
-fn dynamic_residual(static_values: &[f64; 4], values: &[f64; 2], rec: &DynamicRecord<'_>) -> Vec<f64> {
+fn dynamic_residual(
+    static_values: &[f64; 4],
+    values: &[f64; 2],
+    rec: &DynamicRecord<'_>,
+) -> Vec<f64> {
     let Some(p) = cost::params(static_values, values) else {
         return vec![];
     };

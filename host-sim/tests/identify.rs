@@ -21,12 +21,6 @@ fn deterministic_for_a_seed() {
 fn improved_beats_traditional_on_the_objective() {
     let truth = LugreParams::table2();
     let data = identify::ideal_data(&truth);
-    // the five parameters 1 kHz data can identify (sigma1 cannot be, see the README)
-    let worst5 = |e: identify::ErrorsPct| {
-        [e.sigma0, e.sigma2, e.fc, e.fs_minus_fc, e.vs]
-            .into_iter()
-            .fold(0.0, f64::max)
-    };
     let (mut imp_w, mut tra_w) = (Vec::new(), Vec::new());
     for seed in 1..=5 {
         let imp = identify::identify(Algorithm::Improved, &data, seed, Some(&truth));
@@ -42,18 +36,47 @@ fn improved_beats_traditional_on_the_objective() {
             imp.costs.0,
             tra.costs.0
         );
-        imp_w.push(worst5(imp.errors_pct.unwrap()));
-        tra_w.push(worst5(tra.errors_pct.unwrap()));
+        let (i, t) = (imp.errors_pct.unwrap(), tra.errors_pct.unwrap());
+        // the paper's claim, on every seed: all six within 1 %
+        assert!(i.worst() < 1.0, "seed {seed}: {i:?}");
+        assert!(imp.at_bound.is_empty(), "seed {seed}: {:?}", imp.at_bound);
+        imp_w.push(i.worst());
+        tra_w.push(t.worst());
     }
     imp_w.sort_by(f64::total_cmp);
     tra_w.sort_by(f64::total_cmp);
     println!(
-        "median worst error of five: improved {} %, traditional {} %",
+        "median worst error of six: improved {} %, traditional {} %",
         imp_w[2], tra_w[2]
     );
-    assert!(imp_w[2] < tra_w[2]);
-    // the paper's claim for the identifiable parameters: within 1 %
-    assert!(imp_w[2] < 1.0, "median worst {} %", imp_w[2]);
+    assert!(imp_w[2] < 0.1, "median worst {} %", imp_w[2]);
+    assert!(10.0 * imp_w[2] < tra_w[2]);
+}
+
+#[test]
+fn realistic_data_degrades_gracefully_and_says_what_it_cannot_see() {
+    let truth = LugreParams::table2();
+    let cfg = host_sim::plant::PlantConfig::default();
+    let data = identify::realistic_data(&cfg, 3);
+    let r = identify::identify(Algorithm::Improved, &data, 3, Some(&truth));
+    let e = r.errors_pct.unwrap();
+    println!("{e:?}, at bound {:?}", r.at_bound);
+    // the static four come from averaged steady-state forces: pressure noise costs < 1 %
+    for (name, err) in [
+        ("sigma2", e.sigma2),
+        ("Fc", e.fc),
+        ("Fs - Fc", e.fs_minus_fc),
+        ("vs", e.vs),
+    ] {
+        assert!(err < 1.0, "{name}: {err} %");
+    }
+    // sigma0 is limited by the 0.1 um encoder (pre-sliding travel ~0.3 um) but still found
+    assert!(e.sigma0 < 40.0, "sigma0 {} %", e.sigma0);
+    // sigma1 is invisible at 1 kHz behind these sensors: flagged, and not left at a bound
+    let s1 = r.identifiability[1].expect("noisy data is scanned");
+    assert!(!s1.identifiable);
+    assert!(r.identifiability[0].unwrap().identifiable);
+    assert!(r.at_bound.is_empty(), "{:?}", r.at_bound);
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {

@@ -225,8 +225,8 @@ impl<const N: usize, const P: usize> Ga<N, P> {
         }
         let mut moved = [0.0; N];
         if c[ib] < self.cycle_cost {
-            for k in 0..N {
-                moved[k] = (self.pop[ib][k] - self.cycle_best[k]).abs();
+            for ((mk, x), b) in moved.iter_mut().zip(&self.pop[ib]).zip(&self.cycle_best) {
+                *mk = (x - b).abs();
             }
             self.cycle_cost = c[ib];
             self.cycle_best = self.pop[ib];
@@ -297,8 +297,9 @@ impl<const N: usize, const P: usize> Ga<N, P> {
                     let half = (P / 2).max(1);
                     let (ea, eb) = (order[below(rng, half)], order[below(rng, half)]);
                     let t = normal(rng);
-                    for k in 0..N {
-                        x[k] = self.cycle_best[k] + t * (self.pop[ea][k] - self.pop[eb][k]);
+                    let (pa, pb) = (&self.pop[ea], &self.pop[eb]);
+                    for (k, xk) in x.iter_mut().enumerate() {
+                        *xk = self.cycle_best[k] + t * (pa[k] - pb[k]);
                     }
                 }
                 next[i] = clamp(&x, &lo, &hi);
@@ -356,9 +357,8 @@ impl<const N: usize, const P: usize> Ga<N, P> {
         let mut rms = [0.0; N];
         let half = (P / 2).max(1);
         for &i in order.iter().take(half) {
-            for k in 0..N {
-                let d = self.pop[i][k] - self.cycle_best[k];
-                rms[k] += d * d;
+            for ((r, x), b) in rms.iter_mut().zip(&self.pop[i]).zip(&self.cycle_best) {
+                *r += (x - b) * (x - b);
             }
         }
         for r in rms.iter_mut() {
@@ -387,8 +387,8 @@ impl<const N: usize, const P: usize> Ga<N, P> {
         if kappa >= self.config.alpha * (1.0 - gamma) || explored >= self.config.generations / 4 {
             self.refining = true;
             self.stall = 0;
-            for k in 0..N {
-                self.width[k] = (2.5 * rms[k]).clamp(MIN_WIDTH, gamma);
+            for (w, r) in self.width.iter_mut().zip(&rms) {
+                *w = (2.5 * r).clamp(MIN_WIDTH, gamma);
             }
             Process::Refine
         } else {

@@ -103,14 +103,21 @@ fn identification_chapter(out: &Path) -> Result<(), String> {
     super::identify::print_table(&runs.iter().collect::<Vec<_>>(), Some(&truth));
     for r in &runs {
         println!(
-            "  {}: {} evaluations, {:.2} s",
+            "  {}: {} evaluations, all six within 1 % after {}, {:.2} s",
             r.algorithm.name(),
             r.evaluations,
+            r.evaluations_to_1pct
+                .map_or("never".to_string(), |e| e.to_string()),
             r.wall_s
         );
     }
+    println!("\n  The same on the simulated hydraulic axis behind realistic sensors (seed 1):");
+    let real = identify::realistic_data(&host_sim::plant::PlantConfig::default(), 1);
+    let r = identify::identify(Algorithm::Improved, &real, 1, Some(&truth));
+    super::identify::print_table(&[&r], Some(&truth));
+    super::identify::print_identifiability(&r);
     println!(
-        "  sigma1 acts only in microsecond bristle transients: 1 kHz friction data cannot pin it down (README)"
+        "  The 0.1 um encoder limits sigma0 (a reversal's pre-sliding travel is ~0.3 um); sigma1's\n  force (< 0.1 N at 1 kHz) is far below the pressure noise: see README, Identification."
     );
     let params = identify::params_of(&runs[0]).ok_or("identified set invalid")?;
     super::identify::write_params(

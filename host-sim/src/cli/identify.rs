@@ -66,7 +66,6 @@ fn data(a: &Args, seed: u64) -> Result<(IdentData, Option<LugreParams<f64>>, Str
 
 /// Prints a Table-3 style comparison of runs.
 pub fn print_table(runs: &[&RunResult], truth: Option<&LugreParams<f64>>) {
-    let names = ["sigma0", "sigma1", "sigma2", "Fc", "Fs - Fc", "vs"];
     print!("  {:<8}", "param");
     if truth.is_some() {
         print!(" {:>12}", "truth");
@@ -76,7 +75,7 @@ pub fn print_table(runs: &[&RunResult], truth: Option<&LugreParams<f64>>) {
     }
     println!();
     let t = truth.map(identify::table3_values);
-    for (i, n) in names.iter().enumerate() {
+    for (i, n) in NAMES.iter().enumerate() {
         print!("  {:<8}", n);
         if let Some(t) = t {
             print!(" {:>12.5e}", t[i]);
@@ -118,6 +117,7 @@ pub fn run(a: &Args) -> Result<(), String> {
         "  costs: static {:.3e}, dynamic {:.3e}; {} evaluations, {:.2} s",
         r.costs.0, r.costs.1, r.evaluations, r.wall_s
     );
+    print_identifiability(&r);
     if !r.at_bound.is_empty() {
         println!(
             "  warning: at a search-range bound: {}",
@@ -130,6 +130,33 @@ pub fn run(a: &Args) -> Result<(), String> {
         println!("  warning: {w}");
     }
     write_params(&params, a.mass, &r, &setting, &a.out)
+}
+
+/// Table-3 names of the parameters.
+const NAMES: [&str; 6] = ["sigma0", "sigma1", "sigma2", "Fc", "Fs - Fc", "vs"];
+
+/// Prints what the data says about each parameter (noisy data only).
+pub fn print_identifiability(r: &RunResult) {
+    if r.identifiability.iter().all(Option::is_none) {
+        return;
+    }
+    println!("  what the data bounds (95 % likelihood-ratio interval along each parameter):");
+    for (name, id) in NAMES.iter().zip(&r.identifiability) {
+        let Some(id) = id else { continue };
+        let verdict = if id.identifiable {
+            "identified"
+        } else {
+            "NOT identifiable from this data: the interval reaches the search range's end; value = posterior mean"
+        };
+        if id.interval95[0] == id.interval95[1] {
+            println!("    {name:<8} narrower than the scan grid (1/200 of the range)  {verdict}");
+        } else {
+            println!(
+                "    {name:<8} [{:.4e}, {:.4e}]  {verdict}",
+                id.interval95[0], id.interval95[1]
+            );
+        }
+    }
 }
 
 /// Writes an identified parameter file.
@@ -145,6 +172,12 @@ pub fn write_params(
     file.fit.static_fitness = Some(r.costs.0);
     file.fit.dynamic_fitness = Some(r.costs.1);
     file.fit.source = Some(format!("host-sim identify ({source})"));
+    file.fit.not_identifiable = NAMES
+        .iter()
+        .zip(&r.identifiability)
+        .filter(|(_, id)| id.is_some_and(|i| !i.identifiable))
+        .map(|(n, _)| n.to_string())
+        .collect();
     file.write(out)
         .map_err(|e| format!("{}: {e}", out.display()))?;
     println!("wrote {}", out.display());
@@ -210,7 +243,7 @@ fn bench(a: &Args, seeds: u64) -> Result<(), String> {
         wall.elapsed().as_secs_f64()
     );
     println!(
-        "  {:<12} {:>10} {:>10} | {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} | {:>10} {:>12} {:>8}",
+        "  {:<12} {:>10} {:>10} | {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} | {:>10} {:>7} {:>8} {:>9}",
         "algorithm",
         "median max",
         "worst max",
@@ -221,8 +254,9 @@ fn bench(a: &Args, seeds: u64) -> Result<(), String> {
         "Fs-Fc",
         "vs",
         "evals->1%",
-        "(no sigma1)",
-        "at bound"
+        "reach",
+        "at bound",
+        "not ident"
     );
     for alg in Algorithm::ALL {
         let rs: Vec<&RunResult> = runs.iter().filter(|r| r.algorithm == alg).collect();
@@ -234,13 +268,15 @@ fn bench(a: &Args, seeds: u64) -> Result<(), String> {
             .filter_map(|r| r.evaluations_to_1pct.map(|e| e as f64))
             .collect();
         let reached = to1.len();
-        let to1x: Vec<f64> = rs
+        // a run that never gets there counts as infinitely many evaluations
+        let mut to1_all = to1.clone();
+        to1_all.resize(rs.len(), f64::INFINITY);
+        let not_ident = rs
             .iter()
-            .filter_map(|r| r.evaluations_to_1pct_excl_sigma1.map(|e| e as f64))
-            .collect();
-        let reached_x = to1x.len();
+            .filter(|r| r.identifiability.iter().flatten().any(|i| !i.identifiable))
+            .count();
         println!(
-            "  {:<12} {:>9.4}% {:>9.4}% | {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% | {:>10} {:>12} {:>8}",
+            "  {:<12} {:>9.4}% {:>9.4}% | {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% | {:>10} {:>7} {:>8} {:>9}",
             alg.name(),
             median(worst.clone()),
             worst.iter().cloned().fold(0.0, f64::max),
@@ -250,9 +286,10 @@ fn bench(a: &Args, seeds: u64) -> Result<(), String> {
             med(&|e| e.fc),
             med(&|e| e.fs_minus_fc),
             med(&|e| e.vs),
-            if reached == rs.len() { format!("{:.0}", median(to1)) } else { format!("{reached}/{} runs", rs.len()) },
-            if reached_x == rs.len() { format!("{:.0}", median(to1x)) } else { format!("{reached_x}/{} reach", rs.len()) },
-            rs.iter().filter(|r| !r.at_bound.is_empty()).count()
+            format!("{:.0}", median(to1_all)),
+            format!("{reached}/{}", rs.len()),
+            rs.iter().filter(|r| !r.at_bound.is_empty()).count(),
+            not_ident
         );
     }
     Ok(())
