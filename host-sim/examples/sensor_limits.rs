@@ -2,24 +2,9 @@
 //! repeated with one sensor made better at a time.
 //!
 //! `cargo run --release -p host-sim --example sensor_limits`
-use host_sim::experiments;
 use host_sim::identify::*;
 use host_sim::plant::{PlantConfig, SensorConfig};
 use lugre_servo::friction::LugreParams;
-use lugre_servo::identify::cost::SteadyPoint;
-fn data(cfg: &PlantConfig, sensors: SensorConfig) -> IdentData {
-    let (_, pts) = experiments::velocity_sweep(cfg, sensors, &sweep_speeds());
-    let rec = experiments::sinusoid(cfg, sensors, 0.0006, 0.5, 2.0);
-    let mut d = dynamic_from_record(&rec, cfg.cylinder.moving_mass_kg).unwrap();
-    d.points = pts
-        .iter()
-        .map(|p| SteadyPoint {
-            velocity: p.velocity,
-            force: p.force,
-        })
-        .collect();
-    d
-}
 fn main() {
     let cfg = PlantConfig::default();
     let truth = LugreParams::table2();
@@ -56,7 +41,7 @@ fn main() {
         ),
         ("ideal sensors", SensorConfig::ideal()),
     ] {
-        let d = data(&cfg, s);
+        let d = realistic_data_with(&cfg, s);
         let res = identify(Algorithm::Improved, &d, 1, Some(&truth));
         let e = res.errors_pct.unwrap();
         println!("{name:18} s0 {:7.3}% s1 {:7.2}% s2 {:6.3}% fc {:6.3}% dfs {:6.3}% vs {:6.3}%  s1 ident {:?}", e.sigma0, e.sigma1, e.sigma2, e.fc, e.fs_minus_fc, e.vs, res.identifiability[1].map(|i| (i.identifiable, i.interval95)));

@@ -27,7 +27,7 @@ use crate::record::Record;
 use lugre_servo::friction::{LugreParams, LugreState};
 use lugre_servo::identify::cost::{self, DynamicRecord, SteadyPoint};
 use lugre_servo::identify::ga::{Ga, GaConfig, Strategy};
-use lugre_servo::identify::{DYNAMIC_BOUNDS, STATIC_BOUNDS};
+use lugre_servo::identify::{Bounds, DYNAMIC_BOUNDS, STATIC_BOUNDS};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
@@ -141,7 +141,11 @@ pub fn ideal_data(truth: &LugreParams<f64>) -> IdentData {
 
 /// The realistic setting: the hydraulic simulator behind realistic sensors.
 pub fn realistic_data(cfg: &PlantConfig, seed: u64) -> IdentData {
-    let sensors = SensorConfig::realistic(seed);
+    realistic_data_with(cfg, SensorConfig::realistic(seed))
+}
+
+/// Both experiments of the realistic setting on the hydraulic simulator behind `sensors`.
+pub fn realistic_data_with(cfg: &PlantConfig, sensors: SensorConfig) -> IdentData {
     let (_, pts) = experiments::velocity_sweep(cfg, sensors, &sweep_speeds());
     let points = pts
         .iter()
@@ -164,7 +168,7 @@ pub fn realistic_data(cfg: &PlantConfig, seed: u64) -> IdentData {
 /// Dynamic-stage data from a measured record: mean velocity per period = the encoder's
 /// displacement over the period / dt, unfiltered (pre-sliding follows the displacement, and
 /// a low-pass would smear the stick at each reversal over several samples: measured, it
-/// biased sigma0 by -30 % instead of -22 %); friction = force - M a with the acceleration from
+/// biased sigma0 by -30 % instead of -24 %); friction = force - M a with the acceleration from
 /// the 100 Hz zero-phase low-passed position.
 pub fn dynamic_from_record(rec: &Record, mass: f64) -> Result<IdentData, String> {
     let protocol = Protocol {
@@ -249,28 +253,25 @@ pub struct Identifiability {
 const SCAN_POINTS: usize = 201;
 
 /// Scans gene `k` over [0, 1] from `best` (see [`Identifiability`]); returns it in physical
-/// units through `decode`, and the evaluations used.
+/// units, and the posterior mean as a gene.
 fn identifiability<const N: usize>(
     cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
-    decode: &dyn Fn(&[f64; N]) -> [f64; N],
+    bounds: &Bounds<N>,
     best: &[f64; N],
     j_min: f64,
     n_eff: f64,
     k: usize,
-) -> Identifiability {
+) -> (Identifiability, f64) {
     let at = |g: f64| {
         let mut x = *best;
         x[k] = g;
-        decode(&x)[k]
+        bounds.decode(&x)[k]
     };
     let sharp = Identifiability {
         posterior_mean: at(best[k]),
         interval95: [at(best[k]); 2],
         identifiable: true,
     };
-    if !(j_min > 0.0 && j_min.is_finite()) {
-        return sharp; // noise-free data: the likelihood is a spike at the optimum
-    }
     let grid: Vec<f64> = (0..SCAN_POINTS)
         .map(|i| i as f64 / (SCAN_POINTS - 1) as f64)
         .collect();
@@ -279,24 +280,43 @@ fn identifiability<const N: usize>(
         .map(|&g| {
             let mut x = *best;
             x[k] = g;
-            let j = cost(&x);
-            (n_eff * (j - j_min) / (2.0 * j_min)).max(0.0)
+            (n_eff * (cost(&x) - j_min) / (2.0 * j_min)).max(0.0)
         })
         .collect();
     let inside: Vec<usize> = (0..SCAN_POINTS)
         .filter(|&i| minus_log_l[i] <= 0.5 * 3.84)
         .collect();
     let (Some(&first), Some(&last)) = (inside.first(), inside.last()) else {
-        return sharp; // sharper than the grid
+        return (sharp, best[k]); // sharper than the grid
     };
     let w: Vec<f64> = minus_log_l.iter().map(|l| (-l).exp()).collect();
     let total: f64 = w.iter().sum();
     let mean_gene = grid.iter().zip(&w).map(|(g, w)| g * w).sum::<f64>() / total;
-    Identifiability {
+    let id = Identifiability {
         posterior_mean: at(mean_gene),
         interval95: [at(grid[first]), at(grid[last])],
         identifiable: first > 0 && last < SCAN_POINTS - 1,
-    }
+    };
+    (id, mean_gene)
+}
+
+/// Scans every gene of a stage at its optimum `genes` (cost `j_min`, residual of `n_eff`
+/// independent samples); genes the data does not bound move to their posterior mean.
+fn scan_stage<const N: usize>(
+    cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
+    bounds: &Bounds<N>,
+    genes: &mut [f64; N],
+    j_min: f64,
+    n_eff: f64,
+) -> [Identifiability; N] {
+    let optimum = *genes;
+    core::array::from_fn(|k| {
+        let (id, mean_gene) = identifiability(cost, bounds, &optimum, j_min, n_eff, k);
+        if !id.identifiable {
+            genes[k] = mean_gene;
+        }
+        id
+    })
 }
 
 /// One identification run.
@@ -488,50 +508,23 @@ pub fn identify(
     // posterior mean
     let mut ident: [Option<Identifiability>; 6] = [None; 6];
     let mut scan_evals = 0;
-    let mut gs = gs;
-    let mut gd = gd;
+    let (mut gs, mut gd) = (gs, gd);
+    // noise-free data (a cost of exactly 0 or none at all) has a likelihood spike at the optimum
     if cs > 0.0 && cd > 0.0 && cs.is_finite() && cd.is_finite() {
-        let n_static = data.points.len() as f64;
-        for (k, slot) in [3usize, 4, 2, 5].into_iter().enumerate() {
-            let id = identifiability::<4>(
-                &static_cost,
-                &|g| STATIC_BOUNDS.decode(g),
-                &gs,
-                cs,
-                n_static,
-                k,
-            );
-            ident[slot] = Some(id);
-            scan_evals += SCAN_POINTS;
-        }
-        let residual = dynamic_residual(&sv, &DYNAMIC_BOUNDS.decode(&gd), &rec);
+        let [fc, dfs, s2, vs] = scan_stage(
+            &static_cost,
+            &STATIC_BOUNDS,
+            &mut gs,
+            cs,
+            data.points.len() as f64,
+        );
+        let residual: Vec<f64> = cost::dynamic_residuals(&sv, &DYNAMIC_BOUNDS.decode(&gd), &rec)
+            .map(Iterator::collect)
+            .unwrap_or_default();
         let n_dyn = residual.len() as f64 / integrated_autocorrelation_time(&residual);
-        for (k, slot) in [0usize, 1].into_iter().enumerate() {
-            ident[slot] = Some(identifiability::<2>(
-                &dynamic_cost,
-                &|g| DYNAMIC_BOUNDS.decode(g),
-                &gd,
-                cd,
-                n_dyn,
-                k,
-            ));
-            scan_evals += SCAN_POINTS;
-        }
-        // replace what the data does not bound by its posterior mean
-        for (k, slot) in [3usize, 4, 2, 5].into_iter().enumerate() {
-            if let Some(id) = ident[slot].filter(|i| !i.identifiable) {
-                let mut v = STATIC_BOUNDS.decode(&gs);
-                v[k] = id.posterior_mean;
-                gs = STATIC_BOUNDS.encode(&v);
-            }
-        }
-        for (k, slot) in [0usize, 1].into_iter().enumerate() {
-            if let Some(id) = ident[slot].filter(|i| !i.identifiable) {
-                let mut v = DYNAMIC_BOUNDS.decode(&gd);
-                v[k] = id.posterior_mean;
-                gd = DYNAMIC_BOUNDS.encode(&v);
-            }
-        }
+        let [s0, s1] = scan_stage(&dynamic_cost, &DYNAMIC_BOUNDS, &mut gd, cd, n_dyn);
+        ident = [s0, s1, s2, fc, dfs, vs].map(Some);
+        scan_evals = 6 * SCAN_POINTS;
     }
     let sv = STATIC_BOUNDS.decode(&gs);
     let dv = DYNAMIC_BOUNDS.decode(&gd);
@@ -573,23 +566,6 @@ pub fn identify(
         at_bound,
         identifiability: ident,
     }
-}
-
-/// Residual `F_model - F` of the dynamic stage.
-fn dynamic_residual(
-    static_values: &[f64; 4],
-    values: &[f64; 2],
-    rec: &DynamicRecord<'_>,
-) -> Vec<f64> {
-    let Some(p) = cost::params(static_values, values) else {
-        return vec![];
-    };
-    let mut s = LugreState::new();
-    rec.velocity
-        .iter()
-        .zip(rec.force)
-        .map(|(&v, &f)| s.step(&p, v, rec.dt) - f)
-        .collect()
 }
 
 /// The identified parameter set of a run (None if not a valid set).

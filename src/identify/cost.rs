@@ -80,20 +80,30 @@ pub struct DynamicRecord<'a> {
     pub dt: f64,
 }
 
+/// Residuals `F_model,k - F_k` of the dynamic stage (None if the parameters are invalid).
+pub fn dynamic_residuals<'a>(
+    static_values: &[f64; 4],
+    values: &[f64; 2],
+    rec: &'a DynamicRecord<'a>,
+) -> Option<impl Iterator<Item = f64> + 'a> {
+    let p = params(static_values, values)?;
+    let mut s = LugreState::new();
+    Some(
+        rec.velocity
+            .iter()
+            .zip(rec.force)
+            .map(move |(&v, &f)| s.step(&p, v, rec.dt) - f),
+    )
+}
+
 /// Dynamic-stage cost of `[sigma0, sigma1]` with the static part fixed.
 pub fn dynamic_cost(static_values: &[f64; 4], values: &[f64; 2], rec: &DynamicRecord<'_>) -> f64 {
-    let Some(p) = params(static_values, values) else {
+    let Some(residuals) = dynamic_residuals(static_values, values, rec) else {
         return f64::MAX;
     };
     let n = rec.velocity.len().min(rec.force.len());
     let f_ref = rms(rec.force[..n].iter().copied());
-    let mut s = LugreState::new();
-    let mut sum = 0.0;
-    for k in 0..n {
-        let f = s.step(&p, rec.velocity[k], rec.dt);
-        let e = (f - rec.force[k]) / f_ref;
-        sum += e * e;
-    }
+    let sum: f64 = residuals.map(|r| (r / f_ref) * (r / f_ref)).sum();
     let c = sum / n.max(1) as f64;
     if c.is_finite() {
         c
