@@ -11,4 +11,6 @@ pub mod params_file;
 pub mod plant;
 pub mod record;
 pub mod scenarios;
+pub mod stats;
+pub mod timing;
 pub mod track;

@@ -79,9 +79,11 @@ enum Command {
 
 #[derive(clap::Args)]
 struct DiagnoseArgs {
-    /// The measured record (CSV).
-    #[arg(long)]
-    data: PathBuf,
+    /// The measured record (CSV). Give it several times (or a folder of CSVs) for records of
+    /// one axis under different conditions: friction levels against pressure, temperature
+    /// and numeric `# key=value` metadata, across records.
+    #[arg(long, required = true)]
+    data: Vec<PathBuf>,
     /// A parameter file: mass and friction are used as given for the comparison.
     #[arg(long)]
     params: Option<PathBuf>,
@@ -91,6 +93,10 @@ struct DiagnoseArgs {
     /// Effects to add to the model, in order (comma separated).
     #[arg(long, value_delimiter = ',')]
     add: Vec<String>,
+    /// Then add the suggested effects: the first significant candidate, again and again,
+    /// until none is significant (at most three).
+    #[arg(long)]
+    auto: bool,
     /// Another record to test the fitted model on (no refit).
     #[arg(long)]
     validate: Option<PathBuf>,

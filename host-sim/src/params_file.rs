@@ -144,10 +144,14 @@ pub struct FitSection {
     pub rel_err_pct: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub source: Option<String>,
-    /// Parameters the data could not determine (their value is then the posterior mean over
-    /// the search range, see `host_sim::identify`).
+    /// Parameters the data could not determine (their value is then a prior: the posterior
+    /// mean over the search range in `host_sim::identify`, a documented prior in
+    /// `host_sim::diagnose`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub not_identifiable: Vec<String>,
+    /// Parameters the data determined (the rest of the file is a prior or a user's value).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub identified: Vec<String>,
 }
 
 /// The whole file.
@@ -229,6 +233,9 @@ impl ParamFile {
             l.stribeck_velocity_m_per_s,
         )
         .map_err(|e| format!("[lugre] {e}"))?;
+        params
+            .check_physical()
+            .map_err(|e| format!("[lugre] {e}"))?;
         if !(self.axis.moving_mass_kg.is_finite() && self.axis.moving_mass_kg > 0.0) {
             return Err("[axis] moving_mass_kg must be a finite number greater than zero".into());
         }
@@ -361,7 +368,16 @@ impl ParamFile {
         Ok((file, model))
     }
 
-    /// Writes the file with a header comment.
+    /// Validates (as [`Self::read`] would) and writes the file: a set that would put a
+    /// non-physical value into a controller is refused, naming the field, and nothing is written.
+    pub fn write_checked(&self, path: &Path) -> Result<(), String> {
+        self.model()
+            .map_err(|e| format!("{}: not written: {e}", path.display()))?;
+        self.write(path)
+            .map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Writes the file with a header comment (unchecked: see [`Self::write_checked`]).
     pub fn write(&self, path: &Path) -> std::io::Result<()> {
         let body = toml::to_string_pretty(self).map_err(std::io::Error::other)?;
         let text = format!(

@@ -38,7 +38,7 @@ fn asking_for_a_missing_channel_names_it() {
         ..Default::default()
     };
     let e = diagnose::diagnose(&record(5000, true), "nopress.csv", &opts).unwrap_err();
-    assert!(e.contains("no chamber pressures"), "{e}");
+    assert!(e.contains("no chamber pressure (p_a and/or p_b)"), "{e}");
     let opts = Options {
         add: vec!["temperature_dependence".into()],
         ..Default::default()

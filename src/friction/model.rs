@@ -24,6 +24,9 @@ pub struct FrictionState<T> {
     pub z: T,
     /// Time spent stuck before the current motion [s] (only used by `dwell_stiction`).
     pub dwell_time: T,
+    /// Bristle deflection rate dz/dt at the end of the last step [m/s] (what `sigma1`
+    /// multiplies; kept so an identification can regress on it).
+    pub deflection_rate: T,
 }
 
 /// A LuGre model with optional extra effects (configuration only; state is separate).
@@ -189,6 +192,7 @@ impl<T: Float> FrictionModel<T> {
         // max/min rather than clamp: no panic even for a non-finite bound
         let z = b.deflection.max(-bound).min(bound);
         s.z = z;
+        s.deflection_rate = b.deflection_rate;
         // the levels depend on the velocity only through the direction of `asymmetry`
         let crossed = (velocity >= T::zero()) != (mean_velocity >= T::zero());
         let l = if self.effects.asymmetry.is_some() && crossed {

@@ -70,6 +70,8 @@ pub enum ParamErrorKind {
     Negative,
     /// The static force is below the Coulomb force (Fs < Fc).
     StaticBelowCoulomb,
+    /// Valid numbers, but outside what any servo axis has (see [`LugreParams::check_physical`]).
+    Implausible,
 }
 
 /// A refused parameter set: which field, and why.
@@ -90,6 +92,9 @@ impl fmt::Display for ParamError {
             ParamErrorKind::Negative => "must not be negative",
             ParamErrorKind::StaticBelowCoulomb => {
                 "must be at least coulomb_force (Fc): the breakaway force cannot be below the sliding force"
+            }
+            ParamErrorKind::Implausible => {
+                "is outside the physical range of servo axes (see LugreParams::check_physical)"
             }
         };
         write!(f, "{} {}", self.field.describe(), why)
@@ -216,6 +221,44 @@ impl<T: Float> LugreParams<T> {
     /// vs, Stribeck velocity [m/s].
     pub fn stribeck_velocity(&self) -> T {
         self.stribeck_velocity
+    }
+
+    /// Refuses a valid set that no real axis has, before it reaches a controller:
+    ///
+    /// * sigma0 in [1e3, 1e11] N/m, and a pre-sliding length `Fs / sigma0` in [1 nm, 10 mm];
+    /// * vs in [1 um/s, 1 m/s];
+    /// * `Fs <= 20 Fc` (a breakaway twenty times the sliding level is an identification
+    ///   artefact, typically a hump fitted to a few noisy samples);
+    /// * sigma1 at most 100 times sigma0 x 1 s (a bristle time constant sigma1 / sigma0 of
+    ///   more than 100 s is not a contact).
+    ///
+    /// An identification tool checks the same against the record (forces above several times
+    /// the largest measured force); this check needs no record and runs on the target too.
+    pub fn check_physical(&self) -> Result<(), ParamError> {
+        use ParamField::*;
+        let c = |x: f64| T::from(x).unwrap_or_else(T::nan);
+        let bad = |field| {
+            Err(ParamError {
+                field,
+                kind: ParamErrorKind::Implausible,
+            })
+        };
+        let within = |x: T, lo: f64, hi: f64| x >= c(lo) && x <= c(hi);
+        if !within(self.bristle_stiffness, 1e3, 1e11)
+            || !within(self.static_force / self.bristle_stiffness, 1e-9, 1e-2)
+        {
+            return bad(BristleStiffness);
+        }
+        if !within(self.stribeck_velocity, 1e-6, 1.0) {
+            return bad(StribeckVelocity);
+        }
+        if self.static_force > c(20.0) * self.coulomb_force {
+            return bad(StaticForce);
+        }
+        if self.bristle_damping > c(100.0) * self.bristle_stiffness {
+            return bad(BristleDamping);
+        }
+        Ok(())
     }
 
     /// `Some(warning)` when the set is valid but suspicious (see [`ParamWarning`]).

@@ -207,7 +207,7 @@ fn diagnosis_chapter(out: &Path) -> Result<(), String> {
     let report = out.join("diagnosis.html");
     std::fs::write(&report, host_sim::diagnose::report::html(&d, &name, None))
         .map_err(|e| format!("{}: {e}", report.display()))?;
-    super::diagnose::write_params(&d, &out.join("extended.toml"))?;
+    super::diagnose::write_params(&d, &out.join("extended.toml"), None)?;
     println!("  5. report: {}", report.display());
     println!("     (the hidden effect was load_dependence)");
     Ok(())

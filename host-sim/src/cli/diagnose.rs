@@ -36,8 +36,12 @@ pub struct JsonOut<'a> {
 
 /// Runs the subcommand.
 pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
-    let rec = Record::read(&a.data).map_err(|e| e.to_string())?;
-    let name = a.data.display().to_string();
+    let files = expand(&a.data)?;
+    if files.len() > 1 {
+        return run_across(a, &files);
+    }
+    let rec = Record::read(&files[0]).map_err(|e| e.to_string())?;
+    let name = files[0].display().to_string();
     let given = match &a.params {
         Some(p) => {
             let (file, model) = ParamFile::read(p)?;
@@ -69,6 +73,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
         given,
         mass_kg: a.mass,
         add: a.add.clone(),
+        auto: if a.auto { 3 } else { 0 },
         truth,
         ..Default::default()
     };
@@ -109,7 +114,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
         println!("wrote {}", path.display());
     }
     if let Some(path) = &a.out_params {
-        write_params(&d, path)?;
+        write_params(&d, path, a.mass)?;
     }
     if let Some(path) = &a.report {
         let html = host_sim::diagnose::report::html(&d, &name, validation);
@@ -119,20 +124,111 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// Writes the final model as a parameter file.
-pub fn write_params(d: &Diagnosis, path: &Path) -> Result<(), String> {
-    let m = d.model();
-    let mut file = ParamFile::new(&m.friction, m.mass_kg);
-    file.fit.source = Some("host-sim diagnose".into());
-    file.fit.rel_err_pct = Some(d.stages[d.stages.len() - 1].fit.rel_err_pct);
-    file.write(path)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+/// The record files: each `--data` file, and the CSVs in each `--data` folder (sorted).
+fn expand(data: &[std::path::PathBuf]) -> Result<Vec<std::path::PathBuf>, String> {
+    let mut out = Vec::new();
+    for d in data {
+        if d.is_dir() {
+            let mut v: Vec<std::path::PathBuf> = std::fs::read_dir(d)
+                .map_err(|e| format!("{}: {e}", d.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+                .collect();
+            v.sort();
+            if v.is_empty() {
+                return Err(format!("{}: no .csv records in this folder", d.display()));
+            }
+            out.extend(v);
+        } else {
+            out.push(d.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// Several records of one axis: friction levels against the conditions (see
+/// [`diagnose::across`]).
+fn run_across(a: &DiagnoseArgs, files: &[std::path::PathBuf]) -> Result<(), String> {
+    let records: Vec<(String, Record)> = files
+        .iter()
+        .map(|f| {
+            Record::read(f)
+                .map(|r| (f.display().to_string(), r))
+                .map_err(|e| e.to_string())
+        })
+        .collect::<Result<_, _>>()?;
+    let opts = Options {
+        mass_kg: a.mass,
+        ..Default::default()
+    };
+    let wall = std::time::Instant::now();
+    let across = diagnose::across::analyse(&records, &opts)?;
+    println!("{} records of one axis:", across.records.len());
+    for r in &across.records {
+        let conds: Vec<String> = r
+            .conditions
+            .iter()
+            .map(|(k, v)| format!("{k} {}", host_sim::timing::sig3(*v)))
+            .collect();
+        let levels: Vec<String> = r
+            .levels
+            .iter()
+            .map(|(k, v, se)| format!("{k} {:.4} +- {:.2e}", v, 1.96 * se))
+            .collect();
+        println!(
+            "  {}: {} | {} | error {:.2} %",
+            r.name,
+            conds.join(", "),
+            levels.join(", "),
+            r.rel_err_pct
+        );
+    }
+    println!(
+        "
+across records:"
+    );
+    for t in &across.trends {
+        println!("  {}", t.sentence());
+    }
+    if across.trends.is_empty() {
+        println!("  no condition varies across these records");
+    }
+    println!("({:.2} s)", wall.elapsed().as_secs_f64());
+    if let Some(path) = &a.json {
+        let text = serde_json::to_string_pretty(&across).map_err(|e| e.to_string())?;
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// Writes the final model as a parameter file (see [`diagnose::parameter_file`]): refused,
+/// with the reason and nothing written, when a value would be non-physical for a controller.
+pub fn write_params(d: &Diagnosis, path: &Path, user_mass: Option<f64>) -> Result<(), String> {
+    let file = diagnose::parameter_file(d, user_mass)
+        .map_err(|e| format!("{}: not written: {e}", path.display()))?;
+    file.write_checked(path)?;
     println!("wrote {}", path.display());
     Ok(())
 }
 
 /// Prints the story of a diagnosis.
 pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
+    for n in &d.prepared.notes {
+        println!("warning: {n}");
+    }
+    for t in [&d.tables.symmetric, &d.tables.asymmetric] {
+        println!(
+            "{:<27}: relative force error {:.2} %  (M {:.2} kg, Fc {:.3} / {:.3} N, sigma2 {:.1} / {:.1} N s/m, forward / backward)",
+            t.label,
+            t.rel_err_pct,
+            t.mass_kg,
+            t.coulomb_forward_n,
+            t.coulomb_backward_n,
+            t.viscous_forward_n_s_per_m,
+            t.viscous_backward_n_s_per_m
+        );
+    }
     if let Some(g) = d.given_rel_err_pct {
         println!("model as given: relative force error {g:.2} %");
     }
@@ -145,14 +241,27 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
         );
         if i == 0 {
             println!(
-                "   M {:.2} kg, Fc {:.2} N, Fs {:.2} N, sigma2 {:.1} N s/m, vs {:.2} mm/s, sigma0 {:.3e} N/m",
+                "   M {:.2} kg, Fc {:.3} N, Fs {:.3} N, sigma2 {:.1} N s/m, sigma1 {:.3e} N s/m, vs {:.2} mm/s, sigma0 {:.3e} N/m",
                 m.mass_kg,
                 p.coulomb_force(),
                 p.static_force(),
                 p.viscous_coefficient(),
+                p.bristle_damping(),
                 p.stribeck_velocity() * 1e3,
                 p.bristle_stiffness()
             );
+        }
+        for q in &s.fit.at_bound {
+            println!(
+                "   note: {} ended at the edge of its physical range",
+                q.label()
+            );
+        }
+        for (name, edge) in &s.fit.nonlinear_at_bound {
+            println!("   note: {name} ended at the edge of its search range ({edge:.3e})");
+        }
+        for (name, why) in &s.fit.priors {
+            println!("   not identifiable: {name}: {why}");
         }
         println!("   where it fails:");
         for f in &s.regimes.findings {

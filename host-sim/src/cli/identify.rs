@@ -4,6 +4,7 @@ use host_sim::identify::{self, Algorithm, IdentData, RunResult};
 use host_sim::params_file::ParamFile;
 use host_sim::plant::PlantConfig;
 use host_sim::record::Record;
+use host_sim::stats::median;
 use indicatif::{ProgressBar, ProgressStyle};
 use lugre_servo::friction::{FrictionModel, LugreParams};
 use rayon::prelude::*;
@@ -178,21 +179,9 @@ pub fn write_params(
         .filter(|(_, id)| id.is_some_and(|i| !i.identifiable))
         .map(|(n, _)| n.to_string())
         .collect();
-    file.write(out)
-        .map_err(|e| format!("{}: {e}", out.display()))?;
+    file.write_checked(out)?;
     println!("wrote {}", out.display());
     Ok(())
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    if v.is_empty() {
-        f64::NAN
-    } else if v.len() % 2 == 1 {
-        v[v.len() / 2]
-    } else {
-        0.5 * (v[v.len() / 2 - 1] + v[v.len() / 2])
-    }
 }
 
 fn bench(a: &Args, seeds: u64) -> Result<(), String> {
@@ -262,7 +251,9 @@ fn bench(a: &Args, seeds: u64) -> Result<(), String> {
         let rs: Vec<&RunResult> = runs.iter().filter(|r| r.algorithm == alg).collect();
         let errs: Vec<_> = rs.iter().filter_map(|r| r.errors_pct).collect();
         let worst: Vec<f64> = errs.iter().map(|e| e.worst()).collect();
-        let med = |f: &dyn Fn(&identify::ErrorsPct) -> f64| median(errs.iter().map(f).collect());
+        let med = |f: &dyn Fn(&identify::ErrorsPct) -> f64| {
+            median(&errs.iter().map(f).collect::<Vec<_>>())
+        };
         let to1: Vec<f64> = rs
             .iter()
             .filter_map(|r| r.evaluations_to_1pct.map(|e| e as f64))
@@ -278,7 +269,7 @@ fn bench(a: &Args, seeds: u64) -> Result<(), String> {
         println!(
             "  {:<12} {:>9.4}% {:>9.4}% | {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% {:>8.4}% | {:>10} {:>7} {:>8} {:>9}",
             alg.name(),
-            median(worst.clone()),
+            median(&worst),
             worst.iter().cloned().fold(0.0, f64::max),
             med(&|e| e.sigma0),
             med(&|e| e.sigma1),
@@ -286,7 +277,7 @@ fn bench(a: &Args, seeds: u64) -> Result<(), String> {
             med(&|e| e.fc),
             med(&|e| e.fs_minus_fc),
             med(&|e| e.vs),
-            format!("{:.0}", median(to1_all)),
+            format!("{:.0}", median(&to1_all)),
             format!("{reached}/{}", rs.len()),
             rs.iter().filter(|r| !r.at_bound.is_empty()).count(),
             not_ident

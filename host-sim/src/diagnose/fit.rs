@@ -36,6 +36,8 @@ pub enum Param {
     Static,
     /// sigma2 [N s/m].
     Viscous,
+    /// sigma1 [N s/m].
+    BristleDamping,
     /// asymmetry rc [-].
     AsymCoulomb,
     /// asymmetry rv [-].
@@ -60,6 +62,7 @@ impl Param {
             Param::Coulomb => "coulomb_force_n",
             Param::Static => "static_force_n",
             Param::Viscous => "viscous_coefficient_n_s_per_m",
+            Param::BristleDamping => "bristle_damping_n_s_per_m",
             Param::AsymCoulomb => "coulomb_ratio",
             Param::AsymViscous => "viscous_ratio",
             Param::Offset => "force_n",
@@ -95,6 +98,12 @@ pub struct Fit {
     pub rss: f64,
     /// The linear estimates.
     pub estimates: Vec<Estimate>,
+    /// Linear parameters that ended at a bound of their physical range (see [`Bounds`]).
+    pub at_bound: Vec<Param>,
+    /// Parameters the record does not determine, held at their documented prior (name, why).
+    pub priors: Vec<(&'static str, String)>,
+    /// Nonlinear parameters whose best value is the edge of their search range (name, edge).
+    pub nonlinear_at_bound: Vec<(&'static str, f64)>,
 }
 
 impl Fit {
@@ -119,7 +128,7 @@ pub fn effective_samples(p: &Prepared, parallel_cutoff_hz: f64) -> f64 {
 /// is mostly slow model mismatch carries less independent information than its bandwidth
 /// suggests; using this keeps the information criterion from mistaking structure for evidence.
 pub fn residual_effective_samples(p: &Prepared, predicted: &[f64]) -> f64 {
-    let filtered = p.parallel.filtfilt(predicted);
+    let filtered = p.filter(predicted);
     let r: Vec<f64> = p
         .force
         .iter()
@@ -189,8 +198,13 @@ fn refit_iterations(
                 .zip(&sim.friction)
                 .map(|(a, f)| m.mass_kg * a + f)
                 .collect();
-        let filtered = p.parallel.filtfilt(&pred);
-        (p.weighted_rss_filtered(&filtered), sim, filtered)
+        let filtered = p.filter(&pred);
+        let rss = p.weighted_rss_filtered(&filtered);
+        (
+            if rss.is_finite() { rss } else { f64::INFINITY },
+            sim,
+            filtered,
+        )
     };
     // The linearised step can overshoot where two effects are nearly collinear (an offset and
     // a direction-dependent Coulomb level differ only while stuck): an iterate is accepted only
@@ -228,12 +242,21 @@ fn refit_iterations(
     for e in estimates.iter_mut() {
         e.value = value_of(&model, e.param);
     }
+    let bounds = Bounds::of(&model, p, fixed_mass);
+    let at_bound = estimates
+        .iter()
+        .filter(|e| bounds.at_bound(e.param, e.value))
+        .map(|e| e.param)
+        .collect();
     Fit {
         rel_err_all_pct: p.rel_err_all_pct_filtered(&pred),
         model,
         rel_err_pct: 100.0 * rss.sqrt() / p.force_norm,
         rss,
         estimates,
+        at_bound,
+        priors: Vec::new(),
+        nonlinear_at_bound: Vec::new(),
     }
 }
 
@@ -246,6 +269,7 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
         Param::Coulomb => q.coulomb_force(),
         Param::Static => q.static_force(),
         Param::Viscous => q.viscous_coefficient(),
+        Param::BristleDamping => q.bristle_damping(),
         Param::AsymCoulomb => e.asymmetry.map_or(0.0, |a| a.coulomb_ratio),
         Param::AsymViscous => e.asymmetry.map_or(0.0, |a| a.viscous_ratio),
         Param::Offset => e.offset.map_or(0.0, |o| o.force),
@@ -255,6 +279,79 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
             .temperature_dependence
             .map_or(0.0, |t| t.coulomb_per_kelvin),
         Param::DwellIncrease => e.dwell_stiction.map_or(0.0, |d| d.max_increase),
+    }
+}
+
+/// The physical range of each linear parameter on a record. A fit never leaves it, and a
+/// parameter that ends on its edge is reported ([`Fit::at_bound`]):
+///
+/// - moving mass `M >= 0` (or fixed by the user);
+/// - Coulomb level `Fc` and Stribeck hump `Fs - Fc` in `[0, 3 F_max]`, `F_max` the largest
+///   measured force: friction cannot exceed several times the force that moved the axis;
+/// - viscous `sigma2 >= 0` with `sigma2 v_max <= 3 F_max`;
+/// - bristle damping `sigma1 >= 0`, with `sigma1 |dz/dt|_max <= 3 F_max` and, when the mass is
+///   known, `sigma1 <= 5 sqrt(sigma0 M)` (five times critical damping of the bristle mode);
+/// - asymmetry ratios in `[-0.95, 0.95]`; an offset within `+-3 F_max`.
+#[derive(Clone, Copy, Debug)]
+pub struct Bounds {
+    force: f64,
+    viscous: f64,
+    damping: f64,
+}
+
+impl Bounds {
+    /// The bounds for `m` (its sigma0, its mass) on record `p`.
+    pub fn of(m: &AxisModel, p: &Prepared, fixed_mass: Option<f64>) -> Self {
+        let force = 3.0 * p.max_abs_force.max(1e-9);
+        let v_max = p.v.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-6);
+        let mass = fixed_mass.unwrap_or(m.mass_kg);
+        // the fastest bristle rate the model itself can reach: sliding at v_max
+        let critical = 5.0 * (m.friction.params.bristle_stiffness() * mass.max(0.0)).sqrt();
+        let damping = if critical > 0.0 {
+            (force / v_max).min(critical)
+        } else {
+            force / v_max
+        };
+        Self {
+            force,
+            viscous: force / v_max,
+            damping,
+        }
+    }
+
+    /// (lower, upper) of a parameter (in the regression's coordinates: the Stribeck hump
+    /// `Fs - Fc` for [`Param::Static`]).
+    pub fn range(&self, param: Param) -> (f64, f64) {
+        match param {
+            Param::Mass => (0.0, f64::INFINITY),
+            Param::Coulomb | Param::Static => (0.0, self.force),
+            Param::Viscous => (0.0, self.viscous),
+            Param::BristleDamping => (0.0, self.damping),
+            Param::AsymCoulomb | Param::AsymViscous => (-0.95, 0.95),
+            Param::Offset => (-self.force, self.force),
+            _ => (f64::NEG_INFINITY, f64::INFINITY),
+        }
+    }
+
+    /// True when `value` (in reported coordinates) sits on the edge of its range.
+    pub fn at_bound(&self, param: Param, value: f64) -> bool {
+        let (lo, hi) = self.range(param);
+        let finite_width = if (hi - lo).is_finite() { hi - lo } else { 0.0 };
+        let tol = 1e-6 * finite_width.max(value.abs()).max(1e-12);
+        match param {
+            // a zero hump is Fs = Fc, a legitimate answer ("no Stribeck effect"); a zero
+            // damping too: only the upper edges of those say the data pushed against physics
+            Param::Static | Param::BristleDamping | Param::Viscous => value >= hi - tol,
+            _ => value <= lo + tol || value >= hi - tol,
+        }
+    }
+}
+
+/// The regression coordinate of a parameter: `Fs - Fc` for the static level, the value otherwise.
+fn theta_of(m: &AxisModel, param: Param) -> f64 {
+    match param {
+        Param::Static => m.friction.params.static_force() - m.friction.params.coulomb_force(),
+        _ => value_of(m, param),
     }
 }
 
@@ -287,7 +384,12 @@ fn linear_step(
     if fixed_mass.is_none() {
         params.push(Param::Mass);
     }
-    params.extend([Param::Coulomb, Param::Static, Param::Viscous]);
+    params.extend([
+        Param::Coulomb,
+        Param::Static,
+        Param::Viscous,
+        Param::BristleDamping,
+    ]);
     if e.asymmetry.is_some() {
         params.extend([Param::AsymCoulomb, Param::AsymViscous]);
     }
@@ -352,9 +454,11 @@ fn linear_step(
         for (j, prm) in params.iter().enumerate() {
             cols[j][i] = match prm {
                 Param::Mass => p.a[i],
-                Param::Coulomb => tau_c * (1.0 + d * rc) * (1.0 - ex) * s,
+                // g = Fc + (Fs - Fc) e: the Coulomb level everywhere, the hump near rest
+                Param::Coulomb => tau_c * (1.0 + d * rc) * s,
                 Param::Static => tau_c * (1.0 + d * rc) * ex * s,
                 Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
+                Param::BristleDamping => sim.deflection_rate[i],
                 Param::AsymCoulomb => tau_c * d * level * s,
                 Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                 Param::Offset => 1.0,
@@ -366,9 +470,9 @@ fn linear_step(
         }
     }
     // Gauss-Newton: force ~ model0 + J (theta - theta0), so regress
-    // force - (model0 - J theta0) on J. Terms outside J (sigma1 dz/dt, a fixed mass) stay in
-    // model0, and bilinear terms (rc Fc, rv sigma2) are linearised correctly.
-    let theta0: Vec<f64> = params.iter().map(|q| value_of(m, *q)).collect();
+    // force - (model0 - J theta0) on J. Terms outside J (a fixed mass) stay in model0, and
+    // bilinear terms (rc Fc, rv sigma2) are linearised correctly.
+    let theta0: Vec<f64> = params.iter().map(|q| theta_of(m, *q)).collect();
     let offset_part: Vec<f64> = (0..n)
         .map(|i| {
             let model0 = m.mass_kg * p.a[i] + sim.friction[i];
@@ -378,7 +482,7 @@ fn linear_step(
         .collect();
     let mut all: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
     all.push(&offset_part);
-    let mut filtered = p.parallel.filtfilt_many(&all);
+    let mut filtered = p.filter_many(&all);
     let offset_f = filtered.pop().unwrap_or_default();
     let mut cols_f = filtered;
     for c in cols_f.iter_mut() {
@@ -388,7 +492,7 @@ fn linear_step(
     }
     let target: Vec<f64> = p.force.iter().zip(&offset_f).map(|(f, q)| f - q).collect();
 
-    // Scaled normal equations, solved by SVD (robust to a column that carries nothing).
+    // Scaled normal equations (robust to a column that carries nothing).
     let scale: Vec<f64> = cols_f
         .iter()
         .map(|c| {
@@ -417,7 +521,8 @@ fn linear_step(
             * LS_STRIDE as f64
             / scale[a];
     }
-    // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space)
+    // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space),
+    // solved within the physical box
     let mut lm = xtx.clone();
     let mut rhs = xty.clone();
     for j in 0..k {
@@ -425,8 +530,16 @@ fn linear_step(
         lm[(j, j)] += d;
         rhs[j] += d * theta0[j] * scale[j];
     }
-    let inv = pinv(lm);
-    let theta_scaled = &inv * &rhs;
+    let bounds = Bounds::of(m, p, fixed_mass);
+    let (lo, hi): (Vec<f64>, Vec<f64>) = params
+        .iter()
+        .enumerate()
+        .map(|(j, q)| {
+            let (l, h) = bounds.range(*q);
+            (l * scale[j], h * scale[j])
+        })
+        .unzip();
+    let theta_scaled = box_solve(&lm, &rhs, &lo, &hi);
     // standard errors from the undamped normal matrix
     let cov = pinv(xtx);
     let theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
@@ -439,29 +552,120 @@ fn linear_step(
     let n_scored = p.weight.iter().sum::<f64>();
     let sigma2_noise = rss_lin / (n_scored - k as f64).max(1.0);
     let inflation = n_scored / n_eff;
+    let var = |a: usize, b: usize| sigma2_noise * cov[(a, b)] * inflation / (scale[a] * scale[b]);
+    let i_c = params.iter().position(|q| *q == Param::Coulomb);
     let estimates: Vec<Estimate> = params
         .iter()
         .enumerate()
-        .map(|(j, prm)| Estimate {
-            param: *prm,
-            value: theta[j],
-            std_error: (sigma2_noise * cov[(j, j)] * inflation).max(0.0).sqrt() / scale[j],
+        .map(|(j, prm)| match (prm, i_c) {
+            // report Fs = Fc + hump, with the variance of the sum
+            (Param::Static, Some(c)) => Estimate {
+                param: *prm,
+                value: theta[j] + theta[c],
+                std_error: (var(j, j) + var(c, c) + 2.0 * var(j, c)).max(0.0).sqrt(),
+            },
+            _ => Estimate {
+                param: *prm,
+                value: theta[j],
+                std_error: var(j, j).max(0.0).sqrt(),
+            },
         })
         .collect();
     (rebuild(m, &estimates), estimates)
 }
 
+/// Minimises `x' A x / 2 - b' x` over the box `lo <= x <= hi` (A symmetric positive
+/// semi-definite) by an active set: solve on the free variables, pin the one that leaves the
+/// box furthest at its bound, and release a pinned one whose gradient points inside. Exact
+/// for the few (<= 15) parameters here; a singular direction gets the minimum-norm solution.
+pub(crate) fn box_solve(
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+    lo: &[f64],
+    hi: &[f64],
+) -> DVector<f64> {
+    let k = b.len();
+    let mut x = DVector::<f64>::zeros(k);
+    for j in 0..k {
+        x[j] = 0.0f64.clamp(lo[j], hi[j]);
+    }
+    let mut pinned: Vec<bool> = (0..k).map(|j| lo[j] == hi[j]).collect();
+    for _ in 0..4 * k + 4 {
+        let free: Vec<usize> = (0..k).filter(|&j| !pinned[j]).collect();
+        if !free.is_empty() {
+            let f = free.len();
+            let mut af = DMatrix::<f64>::zeros(f, f);
+            let mut bf = DVector::<f64>::zeros(f);
+            for (r, &i) in free.iter().enumerate() {
+                bf[r] = b[i]
+                    - (0..k)
+                        .filter(|&j| pinned[j])
+                        .map(|j| a[(i, j)] * x[j])
+                        .sum::<f64>();
+                for (c, &j) in free.iter().enumerate() {
+                    af[(r, c)] = a[(i, j)];
+                }
+            }
+            let y = pinv(af) * bf;
+            // step from x toward y, stopping at the first bound met
+            let mut step = 1.0f64;
+            let mut blocking = None;
+            for (r, &i) in free.iter().enumerate() {
+                let d = y[r] - x[i];
+                let limit = if d > 0.0 {
+                    (hi[i] - x[i]) / d
+                } else if d < 0.0 {
+                    (lo[i] - x[i]) / d
+                } else {
+                    f64::INFINITY
+                };
+                if limit < step {
+                    step = limit.max(0.0);
+                    blocking = Some(i);
+                }
+            }
+            for (r, &i) in free.iter().enumerate() {
+                x[i] += step * (y[r] - x[i]);
+            }
+            if let Some(i) = blocking {
+                x[i] = if y[free.iter().position(|&j| j == i).unwrap_or(0)] > x[i] {
+                    hi[i]
+                } else {
+                    lo[i]
+                };
+                pinned[i] = true;
+                continue;
+            }
+        }
+        // optimal on the free set: release a pinned variable whose gradient points inside
+        let g = b - a * &x; // minus the gradient
+        let release = (0..k)
+            .filter(|&j| pinned[j] && lo[j] < hi[j])
+            .filter(|&j| (x[j] <= lo[j] && g[j] > 1e-12) || (x[j] >= hi[j] && g[j] < -1e-12))
+            .max_by(|&i, &j| g[i].abs().total_cmp(&g[j].abs()));
+        match release {
+            Some(j) => pinned[j] = false,
+            None => break,
+        }
+    }
+    x
+}
+
 fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
     let get = |p: Param| est.iter().find(|e| e.param == p).map(|e| e.value);
     let old = &m.friction.params;
-    let fc = get(Param::Coulomb).unwrap_or(old.coulomb_force()).max(1e-3);
+    // the box keeps every value physical; the floor on Fc only keeps LugreParams valid
+    let fc = get(Param::Coulomb).unwrap_or(old.coulomb_force()).max(1e-9);
     let fs = get(Param::Static).unwrap_or(old.static_force()).max(fc);
     let s2 = get(Param::Viscous)
         .unwrap_or(old.viscous_coefficient())
         .max(0.0);
+    let s1 = get(Param::BristleDamping)
+        .unwrap_or(old.bristle_damping())
+        .max(0.0);
     let params = LugreParams::new(
         old.bristle_stiffness(),
-        old.bristle_damping(),
+        s1,
         s2,
         fc,
         fs,
@@ -489,7 +693,7 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
         d.max_increase = get(Param::DwellIncrease).unwrap_or(0.0);
     }
     AxisModel {
-        mass_kg: get(Param::Mass).unwrap_or(m.mass_kg),
+        mass_kg: get(Param::Mass).unwrap_or(m.mass_kg).max(0.0),
         friction: lugre_servo::friction::FrictionModel { params, effects },
     }
 }
@@ -578,7 +782,10 @@ pub fn add_effect(m: &AxisModel, effect: &str, p: &Prepared, nonlinear: f64) -> 
         }
         "offset" => e.offset = Some(fx::Offset { force: 0.0 }),
         "load_dependence" => {
-            let r = p.pressure_sum.as_ref().map_or(0.0, |s| median(s));
+            let r = p
+                .pressure_sum
+                .as_ref()
+                .map_or(0.0, |s| crate::stats::median(s));
             e.load_dependence = Some(fx::LoadDependence {
                 coefficient: 0.0,
                 reference_pressure_sum: r,
@@ -635,9 +842,3 @@ const LS_STRIDE: usize = 4;
 pub const VISCOUS_REFERENCE_VELOCITY: f64 = 0.02;
 /// Below this speed the fitted dwell model counts the axis as stuck [m/s].
 pub const DWELL_STICK_VELOCITY: f64 = 2e-4;
-
-fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    s[s.len() / 2]
-}

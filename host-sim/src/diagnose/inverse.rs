@@ -46,7 +46,7 @@ pub struct Prepared {
     pub v_step: Vec<f64>,
     /// Measured force after the parallel filter [N].
     pub force: Vec<f64>,
-    /// Chamber pressure sum [Pa], if recorded.
+    /// Chamber pressure signal [Pa]: `p_a + p_b`, or the one chamber recorded.
     pub pressure_sum: Option<Vec<f64>>,
     /// Oil temperature [degC], if recorded.
     pub temperature: Option<Vec<f64>>,
@@ -58,6 +58,14 @@ pub struct Prepared {
     pub force_norm: f64,
     /// Norm of the filtered measured force over all samples [N].
     pub force_norm_all: f64,
+    /// Stretches of uniform sampling between logger gaps (index ranges; one for most records).
+    pub segments: Vec<std::ops::Range<usize>>,
+    /// True at the first sample of each segment (the friction state restarts there).
+    pub restart: Vec<bool>,
+    /// What was done to the record's timing, in words (empty when nothing was).
+    pub notes: Vec<String>,
+    /// Largest measured force magnitude, unfiltered [N] (bounds the friction levels).
+    pub max_abs_force: f64,
 }
 
 /// Below this speed (after filtering) the axis counts as stuck [m/s]. There friction balances
@@ -66,36 +74,50 @@ pub struct Prepared {
 /// stuck samples are left out of fits and scores (and reported as a regime of their own).
 pub const STUCK_SPEED: f64 = 2e-4;
 
+/// Samples at each end of a segment left out of the scores (filter edge transients).
+const SEGMENT_EDGE: usize = 5;
+
 /// Minimum record length [samples].
 pub const MIN_SAMPLES: usize = 500;
 
 impl Prepared {
-    /// Prepares a record; refuses records that are too short, irregularly sampled or without
-    /// motion, naming the file.
+    /// Prepares a record; refuses records that are too short or without motion, naming the
+    /// file. Irregular logger timing is repaired first (see [`crate::timing`]): the record is
+    /// resampled onto a uniform grid and split at logger gaps, and [`Self::notes`] says so.
     pub fn new(rec: &Record, name: &str, protocol: Protocol) -> Result<Self, String> {
+        let uniform = crate::timing::uniform(rec, name)?;
+        let rec = &uniform.record;
         let n = rec.len();
         if n < MIN_SAMPLES {
             return Err(format!(
                 "{name}: record too short for diagnosis: {n} samples, need at least {MIN_SAMPLES}"
             ));
         }
-        let dt = rec.sample_period();
-        let irregular = rec
-            .t
-            .windows(2)
-            .filter(|w| ((w[1] - w[0]) - dt).abs() > 0.05 * dt)
-            .count();
-        if irregular > n / 100 {
-            return Err(format!(
-                "{name}: sampling is irregular ({irregular} of {n} intervals differ from the median {dt} s by more than 5 %)"
-            ));
-        }
+        let dt = uniform.period_s;
+        let segments = uniform.segments.clone();
         let fs = 1.0 / dt;
         let pos = LowPass::butterworth4(protocol.position_cutoff_hz.min(0.2 * fs), fs);
         let parallel = LowPass::butterworth4(protocol.parallel_cutoff_hz.min(0.1 * fs), fs);
-        let x = pos.filtfilt(&rec.x);
-        let v = central_difference(&x, dt);
-        let a = central_difference(&v, dt);
+        let by_segment = |f: &LowPass, x: &[f64]| -> Vec<f64> {
+            segments
+                .iter()
+                .flat_map(|r| f.filtfilt(&x[r.clone()]))
+                .collect()
+        };
+        let x = by_segment(&pos, &rec.x);
+        let mut v = vec![0.0; n];
+        let mut a = vec![0.0; n];
+        let mut v_step = vec![0.0; n];
+        let mut restart = vec![false; n];
+        for r in &segments {
+            v[r.clone()].copy_from_slice(&central_difference(&x[r.clone()], dt));
+            a[r.clone()].copy_from_slice(&central_difference(&v[r.clone()], dt));
+            restart[r.start] = true;
+            v_step[r.start] = v[r.start];
+            for i in r.start + 1..r.end {
+                v_step[i] = (x[i] - x[i - 1]) / dt;
+            }
+        }
         let stroke = x.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
             - x.iter().cloned().fold(f64::INFINITY, f64::min);
         let moving = v.iter().filter(|s| s.abs() > 1e-4).count();
@@ -105,15 +127,19 @@ impl Prepared {
                 stroke
             ));
         }
-        let mut v_step = vec![0.0; n];
-        for i in 1..n {
-            v_step[i] = (x[i] - x[i - 1]) / dt;
-        }
-        let force = parallel.filtfilt(&rec.force);
-        let weight: Vec<f64> = v
+        let force = by_segment(&parallel, &rec.force);
+        let mut weight: Vec<f64> = v
             .iter()
             .map(|s| if s.abs() >= STUCK_SPEED { 1.0 } else { 0.0 })
             .collect();
+        if segments.len() > 1 {
+            // the first and last samples of a segment carry the filters' edge transients
+            for r in &segments {
+                let edge = SEGMENT_EDGE.min(r.len() / 4);
+                weight[r.start..r.start + edge].fill(0.0);
+                weight[r.end - edge..r.end].fill(0.0);
+            }
+        }
         let force_norm = force
             .iter()
             .zip(&weight)
@@ -126,13 +152,15 @@ impl Prepared {
                 "{name}: the force column is zero wherever the axis moves"
             ));
         }
-        let pressure_sum = match (&rec.p_a, &rec.p_b) {
-            (Some(pa), Some(pb)) => {
-                Some(pos.filtfilt(&pa.iter().zip(pb).map(|(a, b)| a + b).collect::<Vec<_>>()))
-            }
-            _ => None,
+        // the load signal: both chambers' sum, or the one chamber a single-acting cylinder has
+        let pressure = match (&rec.p_a, &rec.p_b) {
+            (Some(pa), Some(pb)) => Some(pa.iter().zip(pb).map(|(a, b)| a + b).collect()),
+            (Some(p), None) | (None, Some(p)) => Some(p.clone()),
+            (None, None) => None,
         };
-        let temperature = rec.temp.as_ref().map(|t| pos.filtfilt(t));
+        let pressure_sum = pressure.map(|s: Vec<f64>| by_segment(&pos, &s));
+        let temperature = rec.temp.as_ref().map(|t| by_segment(&pos, t));
+        let max_abs_force = rec.force.iter().fold(0.0f64, |m, f| m.max(f.abs()));
         Ok(Self {
             dt,
             t: rec.t.clone(),
@@ -147,7 +175,37 @@ impl Prepared {
             weight,
             force_norm,
             force_norm_all,
+            segments,
+            restart,
+            notes: uniform.notes,
+            max_abs_force,
         })
+    }
+
+    /// The parallel (zero-phase) filter applied to a force column, segment by segment.
+    pub fn filter(&self, x: &[f64]) -> Vec<f64> {
+        if self.segments.len() == 1 {
+            return self.parallel.filtfilt(x);
+        }
+        self.segments
+            .iter()
+            .flat_map(|r| self.parallel.filtfilt(&x[r.clone()]))
+            .collect()
+    }
+
+    /// [`Self::filter`] of several columns at once.
+    pub fn filter_many(&self, xs: &[&[f64]]) -> Vec<Vec<f64>> {
+        if self.segments.len() == 1 {
+            return self.parallel.filtfilt_many(xs);
+        }
+        let mut out: Vec<Vec<f64>> = xs.iter().map(|x| Vec::with_capacity(x.len())).collect();
+        for r in &self.segments {
+            let parts: Vec<&[f64]> = xs.iter().map(|x| &x[r.clone()]).collect();
+            for (o, f) in out.iter_mut().zip(self.parallel.filtfilt_many(&parts)) {
+                o.extend(f);
+            }
+        }
+        out
     }
 
     /// Number of samples.
@@ -168,7 +226,7 @@ impl Prepared {
 
     /// Residual sum of squares over the scored samples [N^2].
     pub fn weighted_rss(&self, predicted: &[f64]) -> f64 {
-        self.weighted_rss_filtered(&self.parallel.filtfilt(predicted))
+        self.weighted_rss_filtered(&self.filter(predicted))
     }
 
     /// [`Self::weighted_rss`] of an already filtered prediction.
@@ -244,6 +302,8 @@ pub struct Simulation {
     pub bristle: Vec<f64>,
     /// Dwell time before the current motion [s].
     pub dwell: Vec<f64>,
+    /// Bristle deflection rate dz/dt [m/s] (what sigma1 multiplies).
+    pub deflection_rate: Vec<f64>,
 }
 
 impl AxisModel {
@@ -256,9 +316,13 @@ impl AxisModel {
             friction: Vec::with_capacity(n),
             bristle: Vec::with_capacity(n),
             dwell: Vec::with_capacity(n),
+            deflection_rate: Vec::with_capacity(n),
         };
         let sigma0 = self.friction.params.bristle_stiffness();
         for i in 0..n {
+            if p.restart[i] {
+                st = FrictionState::default();
+            }
             let c = p.conditions(i, &reference);
             let v = p.v_step[i];
             let f = self.friction.step_split(&mut st, v, p.v[i], &c, p.dt);
@@ -267,6 +331,7 @@ impl AxisModel {
             out.friction.push(f);
             out.bristle.push((sigma0 * st.z / g).clamp(-1.0, 1.0));
             out.dwell.push(st.dwell_time);
+            out.deflection_rate.push(st.deflection_rate);
         }
         out
     }

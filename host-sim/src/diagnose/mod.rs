@@ -16,11 +16,13 @@
 //! effect" (standard errors from the least-squares covariance scaled by `N / N_eff`; for a
 //! grid-searched parameter, the profile interval `N_eff ln(RSS / RSS_min) <= 3.84`).
 
+pub mod across;
 pub mod filter;
 pub mod fit;
 pub mod inverse;
 pub mod regimes;
 pub mod report;
+pub mod static_table;
 
 use crate::record::Record;
 use fit::{Fit, Param};
@@ -108,7 +110,7 @@ pub fn effect_info(name: &str) -> Option<&'static EffectInfo> {
 pub fn missing_channel(name: &str, p: &Prepared) -> Option<String> {
     match name {
         "load_dependence" if p.pressure_sum.is_none() => {
-            Some("the record has no chamber pressures (p_a, p_b)".into())
+            Some("the record has no chamber pressure (p_a and/or p_b)".into())
         }
         "temperature_dependence" => match &p.temperature {
             None => Some("the record has no oil temperature (temp)".into()),
@@ -192,6 +194,9 @@ pub struct Options {
     pub mass_kg: Option<f64>,
     /// Effects to add, in order.
     pub add: Vec<String>,
+    /// After `add`, add up to this many more effects automatically: each time the first
+    /// significant candidate, until none is significant.
+    pub auto: usize,
     /// The true model of a simulated record (for the noise floor).
     pub truth: Option<AxisModel>,
 }
@@ -212,6 +217,8 @@ pub struct Diagnosis {
     pub noise_floor_pct: Option<f64>,
     /// Effective independent samples used for the scores.
     pub effective_samples: f64,
+    /// The practitioners' static tables: what every dynamic model must beat.
+    pub tables: static_table::StaticTables,
 }
 
 impl Diagnosis {
@@ -221,7 +228,161 @@ impl Diagnosis {
     }
 }
 
-/// Fits the baseline (symmetric LuGre) to the record.
+/// Search range of the Stribeck velocity on a record: from the stuck threshold to the
+/// fastest speed the record visits (a Stribeck velocity outside the visited speeds is not seen
+/// by the data) [m/s].
+pub fn stribeck_range(p: &Prepared) -> (f64, f64) {
+    let moving: Vec<f64> =
+        p.v.iter()
+            .zip(&p.weight)
+            .filter(|(_, w)| **w > 0.0)
+            .map(|(v, _)| v.abs())
+            .collect();
+    let top = crate::stats::quantile(&moving, 0.99).max(2.0 * inverse::STUCK_SPEED);
+    (inverse::STUCK_SPEED, top)
+}
+
+/// Search range of the bristle stiffness sigma0 [N/m]: from soft seals to stiff metal contacts.
+pub const BRISTLE_STIFFNESS_RANGE: (f64, f64) = (1e5, 1e10);
+
+/// Prior pre-sliding length `Fs / sigma0` [m], used when the record does not determine sigma0.
+pub const PRIOR_PRESLIDING_M: f64 = 10e-6;
+
+/// Prior Stribeck velocity as a fraction of the fastest speed visited, used when the record does
+/// not determine it.
+pub const PRIOR_STRIBECK_FRACTION: f64 = 0.1;
+
+/// A nonlinear parameter of the baseline, searched in log space within bounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Nonlinear {
+    StribeckVelocity,
+    BristleStiffness,
+}
+
+impl Nonlinear {
+    fn name(self) -> &'static str {
+        match self {
+            Nonlinear::StribeckVelocity => "stribeck_velocity_m_per_s",
+            Nonlinear::BristleStiffness => "bristle_stiffness_n_per_m",
+        }
+    }
+    fn get(self, m: &AxisModel) -> f64 {
+        match self {
+            Nonlinear::StribeckVelocity => m.friction.params.stribeck_velocity(),
+            Nonlinear::BristleStiffness => m.friction.params.bristle_stiffness(),
+        }
+    }
+    fn set(self, m: &AxisModel, value: f64) -> AxisModel {
+        let q = &m.friction.params;
+        match self {
+            Nonlinear::StribeckVelocity => fit::with_nonlinear(m, value, q.bristle_stiffness()),
+            Nonlinear::BristleStiffness => fit::with_nonlinear(m, q.stribeck_velocity(), value),
+        }
+    }
+    fn range(self, p: &Prepared) -> (f64, f64) {
+        match self {
+            Nonlinear::StribeckVelocity => stribeck_range(p),
+            Nonlinear::BristleStiffness => BRISTLE_STIFFNESS_RANGE,
+        }
+    }
+    fn prior(self, m: &AxisModel, p: &Prepared) -> f64 {
+        let (lo, hi) = self.range(p);
+        match self {
+            Nonlinear::StribeckVelocity => (PRIOR_STRIBECK_FRACTION * hi).clamp(lo, hi),
+            Nonlinear::BristleStiffness => {
+                (m.friction.params.static_force() / PRIOR_PRESLIDING_M).clamp(lo, hi)
+            }
+        }
+    }
+}
+
+/// Bounded continuous search of one nonlinear parameter with the linear ones refitted at each
+/// point (a profile): a 9-point scan of the whole log range, then a 5-point scan of the best
+/// bracket, each closed by a parabola. The scan of the whole range is also the identifiability
+/// test: when the profile rises by less than the 95 % likelihood-ratio threshold
+/// (`N_eff ln(RSS_max / RSS_min) < 3.84`) anywhere in the range, the record does not determine
+/// the parameter and it is held at its prior.
+fn search_one(
+    which: Nonlinear,
+    start: &Fit,
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) -> Fit {
+    let (lo, hi) = which.range(p);
+    let (llo, lhi) = (lo.ln(), hi.ln());
+    let eval = |base: &AxisModel, lx: f64| {
+        let f = fit::refit_quick(&which.set(base, lx.exp()), p, fixed_mass, n_eff);
+        (f.rss, f)
+    };
+    let base = start.model;
+    let coarse: Vec<f64> = (0..9).map(|i| llo + (lhi - llo) * i as f64 / 8.0).collect();
+    let (x1, f1, profile) = fit::grid_min(&coarse, |lx| eval(&base, lx));
+    let r_min = profile.iter().map(|q| q.1).fold(f64::INFINITY, f64::min);
+    let r_max = profile.iter().map(|q| q.1).fold(0.0f64, f64::max);
+    let flat = !(n_eff * (r_max / r_min).ln() >= 3.84);
+    let mut best = if f1.rss < start.rss {
+        f1
+    } else {
+        start.clone()
+    };
+    // flags of the other parameters carry over; this one's are decided here
+    let inherited = |f: &mut Fit| {
+        f.priors = start
+            .priors
+            .iter()
+            .filter(|q| q.0 != which.name())
+            .cloned()
+            .collect();
+        f.nonlinear_at_bound = start
+            .nonlinear_at_bound
+            .iter()
+            .filter(|q| q.0 != which.name())
+            .cloned()
+            .collect();
+    };
+    if flat {
+        let prior = which.prior(&best.model, p);
+        let mut f = fit::refit(&which.set(&best.model, prior), p, fixed_mass, n_eff);
+        inherited(&mut f);
+        f.priors.push((
+            which.name(),
+            format!(
+                "the record does not determine it (the fit changes by less than the 95 % threshold over {:.3e}..{:.3e}); held at its prior {:.3e}",
+                lo, hi, prior
+            ),
+        ));
+        return f;
+    }
+    let step = (lhi - llo) / 8.0;
+    let fine: Vec<f64> = (0..5)
+        .map(|i| (x1 - step + step * i as f64 / 2.0).clamp(llo, lhi))
+        .collect();
+    let centre = best.model;
+    let (_, f2, _) = fit::grid_min(&fine, |lx| eval(&centre, lx));
+    if f2.rss < best.rss {
+        best = f2;
+    }
+    inherited(&mut best);
+    let v = which.get(&best.model);
+    if (v.ln() - llo).abs() < 1e-3 || (v.ln() - lhi).abs() < 1e-3 {
+        best.nonlinear_at_bound.push((
+            which.name(),
+            if (v.ln() - llo).abs() < 1e-3 { lo } else { hi },
+        ));
+    }
+    best
+}
+
+/// Fits the baseline (symmetric LuGre, all six parameters and the mass) to the record.
+///
+/// It starts from the practitioners' static table (closed-form Coulomb + viscous least squares,
+/// [`static_table`]) as a LuGre model with `Fs = Fc`, so the fit cannot end worse than the
+/// table: every later step is accepted only when the real model scores better. The linear
+/// parameters (M, Fc, Fs - Fc, sigma2, sigma1) are solved within their physical box
+/// ([`fit::Bounds`]); the Stribeck velocity and sigma0 by bounded continuous search
+/// ([`stribeck_range`], [`BRISTLE_STIFFNESS_RANGE`]), twice in turn. A parameter the record does
+/// not determine is held at a documented prior and listed in [`Fit::priors`].
 pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
     let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
     if let Some(g) = &opts.given {
@@ -231,38 +392,67 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
         };
         return fit::refit(&plain, p, fixed_mass, n_eff);
     }
+    let table = static_table::fit(p, fixed_mass).symmetric;
+    let floor = 1e-3 * p.max_abs_force.max(1e-9);
+    let fc = table
+        .coulomb_forward_n
+        .clamp(floor, 3.0 * p.max_abs_force.max(floor));
+    let (vs_lo, vs_hi) = stribeck_range(p);
     let seed = AxisModel {
-        mass_kg: 1.0,
+        mass_kg: table.mass_kg.max(0.0),
         friction: FrictionModel::plain(
-            LugreParams::new(1.2e8, 0.0, 0.0, 100.0, 120.0, 0.005).unwrap_or_default(),
+            LugreParams::new(
+                (fc / 1e-6).clamp(BRISTLE_STIFFNESS_RANGE.0, BRISTLE_STIFFNESS_RANGE.1),
+                0.0,
+                table.viscous_forward_n_s_per_m.max(0.0),
+                fc,
+                fc,
+                (PRIOR_STRIBECK_FRACTION * vs_hi).clamp(vs_lo, vs_hi),
+            )
+            .unwrap_or_default(),
         ),
     };
-    let prelim = fit::refit(&seed, p, fixed_mass, n_eff);
-    let fs = prelim.model.friction.params.static_force();
-    let lengths = [0.2e-6, 2e-6, 20e-6];
-    let log_vs: Vec<f64> = (0..8)
-        .map(|i| (5e-4f64).ln() + i as f64 * (100f64).ln() / 7.0)
-        .collect();
-    let mut best: Option<Fit> = None;
-    for len in lengths {
-        let (_, f, _) = fit::grid_min(&log_vs, |lv| {
-            let m = fit::with_nonlinear(&prelim.model, lv.exp(), fs / len);
-            let f = fit::refit_quick(&m, p, fixed_mass, n_eff);
-            (f.rss, f)
-        });
-        let f = fit::refit(&f.model, p, fixed_mass, n_eff);
-        if best.as_ref().is_none_or(|b| f.rss < b.rss) {
-            best = Some(f);
-        }
-    }
-    best.unwrap_or(prelim)
+    let seeded = fit::refit(&seed, p, fixed_mass, n_eff);
+    polish(&seeded, None, p, fixed_mass, n_eff, 2, true)
 }
 
-/// Re-searches the nonlinear parameters of an extended model: the Stribeck velocity (and,
-/// with `lengths`, the pre-sliding length), then the added effect's own nonlinear parameter,
-/// alternating `rounds` times. The symmetric baseline's values are biased when an effect was
-/// missing (it bends its Stribeck curve to mimic the effect), so an effect is only judged
-/// fairly once they have moved.
+/// Mass and sigma1 whose 95 % interval reaches zero are not determined by the record. The mass
+/// is then held at its prior, zero (no inertial force worth modelling: give `--mass` for a
+/// controller), and refitted without it; sigma1 stays where the bounded fit put it (its prior,
+/// zero, lies inside its interval) and is listed as not identifiable.
+fn mark_unidentified_linear(f: &mut Fit, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) {
+    let ci_reaches_zero = |f: &Fit, q: Param| {
+        f.estimate(q)
+            .filter(|e| e.value - 1.96 * e.std_error <= 0.0)
+            .map(|e| (e.value, 1.96 * e.std_error))
+    };
+    f.priors
+        .retain(|q| q.0 != Param::Mass.label() && q.0 != Param::BristleDamping.label());
+    if fixed_mass.is_none() {
+        if let Some((v, h)) = ci_reaches_zero(f, Param::Mass) {
+            let mut g = fit::refit(&f.model, p, Some(0.0), n_eff);
+            g.priors = f.priors.clone();
+            g.nonlinear_at_bound = f.nonlinear_at_bound.clone();
+            g.priors.push((
+                Param::Mass.label(),
+                format!("the inertial force is below what the record resolves ({v:.3e} +- {h:.1e} kg, 95 %, includes 0); held at its prior 0: give --mass for a controller"),
+            ));
+            *f = g;
+        }
+    }
+    if let Some((v, h)) = ci_reaches_zero(f, Param::BristleDamping) {
+        f.priors.push((
+            Param::BristleDamping.label(),
+            format!("the record does not resolve the bristle dynamics ({v:.3e} +- {h:.1e} N s/m, 95 %, includes its prior 0)"),
+        ));
+    }
+}
+
+/// Re-searches the nonlinear parameters of an extended model within their bounds: the
+/// Stribeck velocity (and, with `stiffness`, sigma0), then the added effect's own nonlinear
+/// parameter, alternating `rounds` times. The symmetric baseline's values are biased when an
+/// effect was missing (it bends its Stribeck curve to mimic the effect), so an effect is only
+/// judged fairly once they have moved.
 pub fn polish(
     current: &Fit,
     effect: Option<&str>,
@@ -270,53 +460,22 @@ pub fn polish(
     fixed_mass: Option<f64>,
     n_eff: f64,
     rounds: usize,
-    lengths: bool,
+    stiffness: bool,
 ) -> Fit {
     let mut best = current.clone();
     let grid = effect.and_then(effect_info).and_then(|i| i.nonlinear);
-    for _ in 0..rounds {
-        let params = best.model.friction.params;
-        let fs = params.static_force();
-        let len0 = fs / params.bristle_stiffness();
-        let vs0 = params.stribeck_velocity().ln();
-        let log_vs: Vec<f64> = [-0.8, -0.4, 0.0, 0.4, 0.8]
-            .iter()
-            .map(|d| vs0 + d)
-            .collect();
-        let lens: &[f64] = if lengths { &[1.0, 0.1, 10.0] } else { &[1.0] };
-
-        for &scale in lens {
-            let base = best.model;
-            let (_, f, _) = fit::grid_min(&log_vs, |lv| {
-                let m = fit::with_nonlinear(&base, lv.exp(), fs / (len0 * scale));
-                let f = fit::refit_quick(&m, p, fixed_mass, n_eff);
-                (f.rss, f)
-            });
-            let f = fit::refit(&f.model, p, fixed_mass, n_eff);
-            if f.rss < best.rss {
-                best = f;
-            }
-        }
-        if lengths {
-            // a finer pass around the best vs (the --add polish: one model, worth the time)
-            let base = best.model;
-            let centre = base.friction.params.stribeck_velocity().ln();
-            let fine: Vec<f64> = [-0.2, -0.1, 0.0, 0.1, 0.2]
-                .iter()
-                .map(|d| centre + d)
-                .collect();
-            let s0 = base.friction.params.bristle_stiffness();
-            let (_, f, _) = fit::grid_min(&fine, |lv| {
-                let f = fit::refit_quick(
-                    &fit::with_nonlinear(&base, lv.exp(), s0),
-                    p,
-                    fixed_mass,
-                    n_eff,
-                );
-                (f.rss, f)
-            });
-            let f = fit::refit(&f.model, p, fixed_mass, n_eff);
-            if f.rss < best.rss {
+    let searched: &[Nonlinear] = if stiffness {
+        &[Nonlinear::StribeckVelocity, Nonlinear::BristleStiffness]
+    } else {
+        &[Nonlinear::StribeckVelocity]
+    };
+    for round in 0..rounds {
+        for which in searched {
+            let f = search_one(*which, &best, p, fixed_mass, n_eff);
+            // on the last round a parameter the record does not determine goes to its prior
+            // (the profile is flat: the fit changes by less than the 95 % threshold)
+            let held = round + 1 == rounds && f.priors.iter().any(|q| q.0 == which.name());
+            if f.rss < best.rss || held {
                 best = f;
             }
         }
@@ -326,12 +485,15 @@ pub fn polish(
                 let f = fit::refit_quick(&fit::add_effect(&base, name, p, x), p, fixed_mass, n_eff);
                 (f.rss, f)
             });
-            let f = fit::refit(&f.model, p, fixed_mass, n_eff);
+            let mut f = fit::refit(&f.model, p, fixed_mass, n_eff);
             if f.rss < best.rss {
+                f.priors = best.priors.clone();
+                f.nonlinear_at_bound = best.nonlinear_at_bound.clone();
                 best = f;
             }
         }
     }
+    mark_unidentified_linear(&mut best, p, fixed_mass, n_eff);
     best
 }
 
@@ -578,6 +740,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
     let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
     let given_rel_err_pct = opts.given.map(|g| p.rel_err_pct(&g.predict(&p)));
 
+    let tables = static_table::fit(&p, fixed_mass);
     let base = baseline(&p, opts, n_eff);
     let mut stages = vec![stage(
         "baseline (symmetric LuGre)".into(),
@@ -586,18 +749,35 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
         fixed_mass,
         n_eff,
     )];
-    for e in &opts.add {
+    let mut to_add: Vec<String> = opts.add.clone();
+    let mut auto_left = opts.auto;
+    loop {
+        let e = if let Some(e) = (!to_add.is_empty()).then(|| to_add.remove(0)) {
+            e
+        } else if auto_left > 0 {
+            auto_left -= 1;
+            match stages[stages.len() - 1]
+                .candidates
+                .iter()
+                .find(|c| c.significant)
+            {
+                Some(c) => c.effect.clone(),
+                None => break,
+            }
+        } else {
+            break;
+        };
         let prev = &stages[stages.len() - 1];
         let fit = prev
             .candidates
             .iter()
-            .find(|c| &c.effect == e)
+            .find(|c| c.effect == e)
             .and_then(|c| c.fit.clone())
             .ok_or_else(|| format!("effect '{e}' is already in the model"))?;
         let fit = if opts.given.is_some() {
             fit
         } else {
-            polish(&fit, Some(e), &p, fixed_mass, n_eff, 2, true)
+            polish(&fit, Some(&e), &p, fixed_mass, n_eff, 2, true)
         };
         stages.push(stage(format!("+ {e}"), fit, &p, fixed_mass, n_eff));
     }
@@ -607,6 +787,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
         given_rel_err_pct,
         stages,
         effective_samples: n_eff,
+        tables,
     })
 }
 
@@ -620,6 +801,40 @@ fn stage(label: String, fit: Fit, p: &Prepared, fixed_mass: Option<f64>, n_eff: 
         regimes,
         candidates,
     }
+}
+
+/// The parameter file of a diagnosis's final model, with which values the record determined
+/// and which are priors. Refused, with the reason, when a value would be non-physical for a
+/// controller: a moving mass the record does not determine (give `user_mass`), or a set the
+/// core's plausibility check refuses ([`lugre_servo::friction::LugreParams::check_physical`]).
+pub fn parameter_file(
+    d: &Diagnosis,
+    user_mass: Option<f64>,
+) -> Result<crate::params_file::ParamFile, String> {
+    let m = d.model();
+    let last = &d.stages[d.stages.len() - 1].fit;
+    let priors: Vec<String> = last.priors.iter().map(|q| q.0.to_string()).collect();
+    if priors.iter().any(|p| p == Param::Mass.label()) && user_mass.is_none() {
+        return Err(
+            "the record does not determine the moving mass (its 95 % interval includes 0 kg); a controller needs it: give --mass KG".into(),
+        );
+    }
+    let mut file = crate::params_file::ParamFile::new(&m.friction, user_mass.unwrap_or(m.mass_kg));
+    file.fit.source = Some("host-sim diagnose".into());
+    file.fit.rel_err_pct = Some(last.rel_err_pct);
+    file.fit.identified = last
+        .estimates
+        .iter()
+        .map(|e| e.param.label().to_string())
+        .chain([
+            "stribeck_velocity_m_per_s".into(),
+            "bristle_stiffness_n_per_m".into(),
+        ])
+        .filter(|n| !priors.contains(n) && !(n == Param::Mass.label() && user_mass.is_some()))
+        .collect();
+    file.fit.not_identifiable = priors;
+    file.model()?;
+    Ok(file)
 }
 
 /// Error of a fitted model on another record (no refit) [%].

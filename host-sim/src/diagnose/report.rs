@@ -269,8 +269,8 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String, St
     let p = &d.prepared;
     let first = &d.stages[0];
     let last = &d.stages[d.stages.len() - 1];
-    let pred_first = p.parallel.filtfilt(&first.fit.model.predict(p));
-    let pred_last = p.parallel.filtfilt(&last.fit.model.predict(p));
+    let pred_first = p.filter(&first.fit.model.predict(p));
+    let pred_last = p.filter(&last.fit.model.predict(p));
     let history_labels: Vec<String> = d.stages.iter().map(|s| s.label.clone()).collect();
     let history: Vec<f64> = d.stages.iter().map(|s| s.fit.rel_err_pct).collect();
     let mut out = String::from(

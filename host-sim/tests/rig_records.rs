@@ -1,0 +1,139 @@
+//! Real-rig habits, on records from the independent seal-rig generator (`generators/rig.rs`,
+//! which shares no code with host-sim's plant or the core's model): a jittery 60..100 Hz
+//! logger with stalls, one chamber, an external drive, a load cell.
+
+mod generators;
+
+use generators::rig::{record, Logger, Seal};
+use generators::Rng;
+use host_sim::diagnose::{self, across, Options};
+use host_sim::params_file::ParamFile;
+use host_sim::record::Record;
+use std::path::Path;
+
+fn rig(seed: u64, dependent: bool, bar: f64) -> (Record, Seal) {
+    let mut rng = Rng::new(seed);
+    let seal = Seal::random(&mut rng, dependent);
+    let logger = Logger {
+        nominal_hz: 100.0,
+        jitter: 0.7,
+        stalls: 2,
+    };
+    let (text, _) = record(&seal, bar, logger, seed + 1);
+    (Record::parse(&text, Path::new("rig.csv")).unwrap(), seal)
+}
+
+#[test]
+fn a_jittery_logger_record_is_analysed_and_beats_the_static_table() {
+    let (rec, seal) = rig(11, true, 3.0);
+    let opts = Options {
+        auto: 3,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "rig.csv", &opts).unwrap();
+    let notes = d.prepared.notes.join(" | ");
+    assert!(
+        notes.contains("resampled") && notes.contains("segments"),
+        "{notes}"
+    );
+    assert!(d.prepared.segments.len() >= 2);
+    let base = &d.stages[0].fit;
+    assert!(d.model().mass_kg >= 0.0 && base.model.mass_kg >= 0.0);
+    assert!(
+        base.rel_err_pct <= 1.05 * d.tables.symmetric.rel_err_pct,
+        "baseline {} % vs static table {} %",
+        base.rel_err_pct,
+        d.tables.symmetric.rel_err_pct
+    );
+    let last = d.stages[d.stages.len() - 1].fit.rel_err_pct;
+    assert!(last <= d.tables.asymmetric.rel_err_pct, "{last} %");
+    // the levels are the seal's, not a bound's: Fc within 10 %, Fs below 3x the largest force
+    let q = d.model().friction.params;
+    let fc = seal.coulomb0_n + 3.0 * seal.coulomb_per_bar;
+    assert!(
+        (q.coulomb_force() - fc).abs() < 0.1 * fc,
+        "Fc {} vs {fc}",
+        q.coulomb_force()
+    );
+    assert!(q.static_force() <= 3.0 * d.prepared.max_abs_force);
+    // a parameter file is physical or refused with a reason, never non-physical
+    match diagnose::parameter_file(&d, None) {
+        Ok(f) => f.model().map(|_| ()).unwrap(),
+        Err(e) => assert!(e.contains("--mass"), "{e}"),
+    }
+    let f = diagnose::parameter_file(&d, Some(3.0)).unwrap();
+    assert!(!f.fit.identified.is_empty());
+    assert!(!f.fit.identified.contains(&"moving_mass_kg".to_string()));
+}
+
+#[test]
+fn time_going_backwards_is_refused_with_its_line() {
+    let text = "t,x,force\n0.00,0,1\n0.01,0,1\n0.005,0,1\n";
+    let e = Record::parse(text, Path::new("back.csv"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("back.csv:4:1") && e.contains("does not increase"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_non_physical_parameter_file_is_not_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.toml");
+    let mut model = lugre_servo::friction::FrictionModel::plain(
+        lugre_servo::friction::LugreParams::new(1e6, 0.0, 100.0, 10.0, 1e9, 0.002).unwrap(),
+    );
+    let f = ParamFile::new(&model, 2.0);
+    let e = f.write_checked(&path).unwrap_err();
+    assert!(e.contains("bad.toml") && e.contains("static_force"), "{e}");
+    assert!(!path.exists());
+    model.params =
+        lugre_servo::friction::LugreParams::new(1e6, 0.0, 100.0, 10.0, 12.0, 0.002).unwrap();
+    let mut f = ParamFile::new(&model, 0.0);
+    assert!(f
+        .write_checked(&path)
+        .unwrap_err()
+        .contains("moving_mass_kg"));
+    f.axis.moving_mass_kg = 2.0;
+    f.write_checked(&path).unwrap();
+    assert!(ParamFile::read(&path).is_ok());
+}
+
+#[test]
+fn pressure_dependence_is_found_across_records_and_only_when_there() {
+    let bars = [1.0, 2.5, 4.0, 5.5, 7.0];
+    for (seed, dependent) in [(21, true), (22, false)] {
+        let mut seal = None;
+        let recs: Vec<(String, Record)> = bars
+            .iter()
+            .enumerate()
+            .map(|(k, b)| {
+                let mut rng = Rng::new(seed);
+                let s = Seal::random(&mut rng, dependent);
+                let logger = Logger::random(&mut Rng::new(seed * 10 + k as u64));
+                let (text, _) = record(&s, *b, logger, seed * 100 + k as u64);
+                seal = Some(s);
+                let name = format!("p{k}.csv");
+                let rec = Record::parse(&text, Path::new(&name)).unwrap();
+                (name, rec)
+            })
+            .collect();
+        let seal = seal.unwrap();
+        let a = across::analyse(&recs, &Options::default()).unwrap();
+        let t = a
+            .trends
+            .iter()
+            .find(|t| t.level == "coulomb_force_n" && t.condition == "pressure_bar")
+            .unwrap();
+        println!("true {:.3} N/bar: {}", seal.coulomb_per_bar, t.sentence());
+        assert_eq!(t.significant, dependent, "{}", t.sentence());
+        assert!(
+            t.ci_low <= seal.coulomb_per_bar && seal.coulomb_per_bar <= t.ci_high,
+            "true {} outside {}",
+            seal.coulomb_per_bar,
+            t.sentence()
+        );
+    }
+}
