@@ -52,7 +52,7 @@ pub fn uniform(rec: &Record, name: &str) -> Result<Uniform, String> {
         ));
     }
     let intervals: Vec<f64> = rec.t.windows(2).map(|w| w[1] - w[0]).collect();
-    if let Some(i) = intervals.iter().position(|d| !(*d > 0.0)) {
+    if let Some(i) = intervals.iter().position(|d| d.is_nan() || *d <= 0.0) {
         return Err(format!(
             "{name}: time does not increase at sample {} ({} after {})",
             i + 2,

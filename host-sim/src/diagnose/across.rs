@@ -170,8 +170,14 @@ pub fn record_levels(rec: &Record, name: &str, opts: &Options) -> Result<RecordL
             let vals: Vec<f64> = fits.iter().map(|v| v[j]).collect();
             let m = crate::stats::mean(&vals);
             let b = BLOCKS as f64;
-            let se = ((b - 1.0) / b * vals.iter().map(|v| (v - m).powi(2)).sum::<f64>()).sqrt();
-            (l.label().to_string(), fit::value_of(&model, *l), se)
+            let jackknife =
+                ((b - 1.0) / b * vals.iter().map(|v| (v - m).powi(2)).sum::<f64>()).sqrt();
+            // never narrower than the least-squares interval (a block refit that does not move
+            // would otherwise claim a zero error)
+            let ls = f.estimate(*l).map_or(0.0, |e| e.std_error);
+            let value = fit::value_of(&model, *l);
+            let floor = 1e-9 * value.abs().max(1e-12);
+            (l.label().to_string(), value, jackknife.max(ls).max(floor))
         })
         .collect();
     let mut conditions = Vec::new();

@@ -286,7 +286,7 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
 /// parameter that ends on its edge is reported ([`Fit::at_bound`]):
 ///
 /// - moving mass `M >= 0` (or fixed by the user);
-/// - Coulomb level `Fc` and Stribeck hump `Fs - Fc` in `[0, 3 F_max]`, `F_max` the largest
+/// - Coulomb level `Fc` in `[0, 3 F_max]` and `Fs = Fc + hump <= 3 F_max`, `F_max` the largest
 ///   measured force: friction cannot exceed several times the force that moved the axis;
 /// - viscous `sigma2 >= 0` with `sigma2 v_max <= 3 F_max`;
 /// - bristle damping `sigma1 >= 0`, with `sigma1 |dz/dt|_max <= 3 F_max` and, when the mass is
@@ -295,6 +295,7 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
 #[derive(Clone, Copy, Debug)]
 pub struct Bounds {
     force: f64,
+    coulomb: f64,
     viscous: f64,
     damping: f64,
 }
@@ -314,6 +315,7 @@ impl Bounds {
         };
         Self {
             force,
+            coulomb: m.friction.params.coulomb_force(),
             viscous: force / v_max,
             damping,
         }
@@ -324,7 +326,9 @@ impl Bounds {
     pub fn range(&self, param: Param) -> (f64, f64) {
         match param {
             Param::Mass => (0.0, f64::INFINITY),
-            Param::Coulomb | Param::Static => (0.0, self.force),
+            Param::Coulomb => (0.0, self.force),
+            // Fs = Fc + hump <= 3 F_max (with Fc at its current value; the step is clipped)
+            Param::Static => (0.0, (self.force - self.coulomb).max(0.0)),
             Param::Viscous => (0.0, self.viscous),
             Param::BristleDamping => (0.0, self.damping),
             Param::AsymCoulomb | Param::AsymViscous => (-0.95, 0.95),
@@ -542,7 +546,15 @@ fn linear_step(
     let theta_scaled = box_solve(&lm, &rhs, &lo, &hi);
     // standard errors from the undamped normal matrix
     let cov = pinv(xtx);
-    let theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
+    let mut theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
+    // the hump's bound used the previous Fc: clip the sum to the force bound
+    if let (Some(c), Some(h)) = (
+        params.iter().position(|q| *q == Param::Coulomb),
+        params.iter().position(|q| *q == Param::Static),
+    ) {
+        let cap = bounds.range(Param::Coulomb).1;
+        theta[h] = theta[h].min((cap - theta[c]).max(0.0));
+    }
     let rss_lin: f64 = (0..n)
         .map(|i| {
             let pred: f64 = (0..k).map(|j| theta[j] * cols_f[j][i]).sum();

@@ -228,9 +228,10 @@ impl Diagnosis {
     }
 }
 
-/// Search range of the Stribeck velocity on a record: from the stuck threshold to the
-/// fastest speed the record visits (a Stribeck velocity outside the visited speeds is not seen
-/// by the data) [m/s].
+/// Search range of the Stribeck velocity on a record [m/s]: from the stuck threshold to a third
+/// of the fastest speed the record visits (the 99th percentile). Fc is only determined where
+/// the hump has decayed (`exp(-(v/vs)^2) < 1e-4` at `v = 3 vs`): a larger vs would turn the
+/// Stribeck curve into a stand-in for whatever bends the friction curve at high speed.
 pub fn stribeck_range(p: &Prepared) -> (f64, f64) {
     let moving: Vec<f64> =
         p.v.iter()
@@ -238,8 +239,8 @@ pub fn stribeck_range(p: &Prepared) -> (f64, f64) {
             .filter(|(_, w)| **w > 0.0)
             .map(|(v, _)| v.abs())
             .collect();
-    let top = crate::stats::quantile(&moving, 0.99).max(2.0 * inverse::STUCK_SPEED);
-    (inverse::STUCK_SPEED, top)
+    let top = crate::stats::quantile(&moving, 0.99) / 3.0;
+    (inverse::STUCK_SPEED, top.max(2.0 * inverse::STUCK_SPEED))
 }
 
 /// Search range of the bristle stiffness sigma0 [N/m]: from soft seals to stiff metal contacts.
@@ -320,7 +321,8 @@ fn search_one(
     let (x1, f1, profile) = fit::grid_min(&coarse, |lx| eval(&base, lx));
     let r_min = profile.iter().map(|q| q.1).fold(f64::INFINITY, f64::min);
     let r_max = profile.iter().map(|q| q.1).fold(0.0f64, f64::max);
-    let flat = !(n_eff * (r_max / r_min).ln() >= 3.84);
+    let rise = n_eff * (r_max / r_min).ln();
+    let flat = rise.is_nan() || rise < 3.84;
     let mut best = if f1.rss < start.rss {
         f1
     } else {
@@ -374,6 +376,31 @@ fn search_one(
     best
 }
 
+/// The practitioners' static table as a LuGre model (`Fs = Fc`, stiff contact, vs at its
+/// prior): where every baseline search starts, so that none can end worse than the table.
+pub fn static_seed(p: &Prepared, fixed_mass: Option<f64>) -> AxisModel {
+    let table = static_table::fit(p, fixed_mass).symmetric;
+    let floor = 1e-3 * p.max_abs_force.max(1e-9);
+    let fc = table
+        .coulomb_forward_n
+        .clamp(floor, 3.0 * p.max_abs_force.max(floor));
+    let (vs_lo, vs_hi) = stribeck_range(p);
+    AxisModel {
+        mass_kg: table.mass_kg.max(0.0),
+        friction: FrictionModel::plain(
+            LugreParams::new(
+                (fc / 1e-6).clamp(BRISTLE_STIFFNESS_RANGE.0, BRISTLE_STIFFNESS_RANGE.1),
+                0.0,
+                table.viscous_forward_n_s_per_m.max(0.0),
+                fc,
+                fc,
+                (PRIOR_STRIBECK_FRACTION * vs_hi).clamp(vs_lo, vs_hi),
+            )
+            .unwrap_or_default(),
+        ),
+    }
+}
+
 /// Fits the baseline (symmetric LuGre, all six parameters and the mass) to the record.
 ///
 /// It starts from the practitioners' static table (closed-form Coulomb + viscous least squares,
@@ -392,26 +419,7 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
         };
         return fit::refit(&plain, p, fixed_mass, n_eff);
     }
-    let table = static_table::fit(p, fixed_mass).symmetric;
-    let floor = 1e-3 * p.max_abs_force.max(1e-9);
-    let fc = table
-        .coulomb_forward_n
-        .clamp(floor, 3.0 * p.max_abs_force.max(floor));
-    let (vs_lo, vs_hi) = stribeck_range(p);
-    let seed = AxisModel {
-        mass_kg: table.mass_kg.max(0.0),
-        friction: FrictionModel::plain(
-            LugreParams::new(
-                (fc / 1e-6).clamp(BRISTLE_STIFFNESS_RANGE.0, BRISTLE_STIFFNESS_RANGE.1),
-                0.0,
-                table.viscous_forward_n_s_per_m.max(0.0),
-                fc,
-                fc,
-                (PRIOR_STRIBECK_FRACTION * vs_hi).clamp(vs_lo, vs_hi),
-            )
-            .unwrap_or_default(),
-        ),
-    };
+    let seed = static_seed(p, fixed_mass);
     let seeded = fit::refit(&seed, p, fixed_mass, n_eff);
     polish(&seeded, None, p, fixed_mass, n_eff, 2, true)
 }
@@ -777,7 +785,20 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
         let fit = if opts.given.is_some() {
             fit
         } else {
-            polish(&fit, Some(&e), &p, fixed_mass, n_eff, 2, true)
+            // two starts: from the candidate (the previous model plus the effect), and from
+            // the static table plus the effect. The previous model may have bent its Stribeck
+            // curve to mimic the missing effect (a hump with vs at the top speed mimicking a
+            // sub-linear viscous law), a local minimum the effect's own search cannot leave.
+            let from_candidate = polish(&fit, Some(&e), &p, fixed_mass, n_eff, 2, true);
+            let mut restart = static_seed(&p, fixed_mass);
+            restart.friction.effects = fit.model.friction.effects;
+            let restart = fit::refit(&restart, &p, fixed_mass, n_eff);
+            let from_table = polish(&restart, Some(&e), &p, fixed_mass, n_eff, 2, true);
+            if from_table.rss < from_candidate.rss {
+                from_table
+            } else {
+                from_candidate
+            }
         };
         stages.push(stage(format!("+ {e}"), fit, &p, fixed_mass, n_eff));
     }
@@ -830,7 +851,7 @@ pub fn parameter_file(
             "stribeck_velocity_m_per_s".into(),
             "bristle_stiffness_n_per_m".into(),
         ])
-        .filter(|n| !priors.contains(n) && !(n == Param::Mass.label() && user_mass.is_some()))
+        .filter(|n| !(priors.contains(n) || (n == Param::Mass.label() && user_mass.is_some())))
         .collect();
     file.fit.not_identifiable = priors;
     file.model()?;
