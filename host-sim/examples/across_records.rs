@@ -9,20 +9,16 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::rig::{record, Logger, Seal};
+use generators::rig::{series, Seal};
 use generators::Rng;
 use host_sim::diagnose::{across, Options};
 use host_sim::record::Record;
 use rayon::prelude::*;
 
 fn rig_records(seal: &Seal, bars: &[f64], seed: u64) -> Vec<(String, Record)> {
-    bars.par_iter()
-        .enumerate()
-        .map(|(k, bar)| {
-            let mut rng = Rng::new(seed * 100 + k as u64);
-            let logger = Logger::random(&mut rng);
-            let (text, _) = record(seal, *bar, logger, seed * 1000 + k as u64);
-            let name = format!("rig{seed}_{k}.csv");
+    series(seal, bars, seed)
+        .into_iter()
+        .map(|(name, text)| {
             let rec = Record::parse(&text, std::path::Path::new(&name)).expect("parse");
             (name, rec)
         })

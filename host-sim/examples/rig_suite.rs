@@ -12,8 +12,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::rig::{record, Logger, Seal};
-use generators::Rng;
+use generators::rig::random_record;
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use rayon::prelude::*;
@@ -45,12 +44,7 @@ fn main() {
     let rows: Vec<Row> = (0..n)
         .into_par_iter()
         .map(|i| {
-            let mut rng = Rng::new(5000 + i);
-            let dependent = rng.uniform() < 0.7;
-            let seal = Seal::random(&mut rng, dependent);
-            let logger = Logger::random(&mut rng);
-            let bar = rng.range(1.0, 7.0);
-            let (text, _truth) = record(&seal, bar, logger, 9000 + i);
+            let (text, _truth) = random_record(5000 + i);
             let path = dir.join(format!("rig{i:03}.csv"));
             std::fs::write(&path, text).expect("write");
             let name = path.display().to_string();
@@ -73,12 +67,14 @@ fn main() {
                     file: "none".into(),
                 },
                 Ok(d) => {
+                    // what `--out-params` would do: refuse an undetermined mass, else the file's
+                    // values meet the core's physical check or they do not
                     let file = match diagnose::parameter_file(&d, None) {
                         Ok(f) => match f.model() {
                             Ok(_) => "written, physical".into(),
                             Err(e) => format!("NON-PHYSICAL: {e}"),
                         },
-                        Err(e) => format!("refused: {}", e.split(':').next().unwrap_or("")),
+                        Err(e) => format!("refused: {}", e.split(';').next().unwrap_or("")),
                     };
                     Row {
                         record: name,

@@ -160,6 +160,9 @@ pub fn uniform(rec: &Record, name: &str) -> Result<Uniform, String> {
             let t0 = rec.t[r.start];
             let t1 = rec.t[r.end - 1];
             let m = ((t1 - t0) / h).floor() as usize + 1;
+            if m < MIN_SEGMENT_SAMPLES {
+                continue;
+            }
             let mut j = r.start;
             for k in 0..m {
                 let t = t0 + k as f64 * h;
@@ -170,11 +173,7 @@ pub fn uniform(rec: &Record, name: &str) -> Result<Uniform, String> {
                 push_interpolated(&mut out, rec, j, w, t);
             }
         }
-        if out.t.len() - first >= MIN_SEGMENT_SAMPLES {
-            segments.push(first..out.t.len());
-        } else {
-            truncate(&mut out, first);
-        }
+        segments.push(first..out.t.len());
     }
     Ok(Uniform {
         record: out,
@@ -211,28 +210,6 @@ fn push_range(out: &mut Record, rec: &Record, r: Range<usize>) {
 fn push_interpolated(out: &mut Record, rec: &Record, j: usize, w: f64, t: f64) {
     out.t.push(t);
     each_column(out, rec, |o, s| o.push(s[j] + w * (s[j + 1] - s[j])));
-}
-
-fn truncate(out: &mut Record, len: usize) {
-    out.t.truncate(len);
-    let f = |o: &mut Vec<f64>| o.truncate(len);
-    f(&mut out.x);
-    f(&mut out.force);
-    for o in [
-        &mut out.v,
-        &mut out.x_ref,
-        &mut out.p_a,
-        &mut out.p_b,
-        &mut out.temp,
-    ]
-    .into_iter()
-    .flatten()
-    {
-        f(o);
-    }
-    for (_, o) in out.extra.iter_mut() {
-        f(o);
-    }
 }
 
 /// `x` rounded to three significant digits.

@@ -4,7 +4,7 @@
 
 mod generators;
 
-use generators::rig::{record, Logger, Seal};
+use generators::rig::{record, series, Logger, Seal};
 use generators::Rng;
 use host_sim::diagnose::{self, across, Options};
 use host_sim::params_file::ParamFile;
@@ -120,36 +120,26 @@ fn no_pressure_dependence_is_claimed_when_there_is_none() {
 
 fn pressure_case(seed: u64, dependent: bool) {
     let bars = [1.0, 2.5, 4.0, 5.5, 7.0];
-    {
-        let mut seal = None;
-        let recs: Vec<(String, Record)> = bars
-            .iter()
-            .enumerate()
-            .map(|(k, b)| {
-                let mut rng = Rng::new(seed);
-                let s = Seal::random(&mut rng, dependent);
-                let logger = Logger::random(&mut Rng::new(seed * 10 + k as u64));
-                let (text, _) = record(&s, *b, logger, seed * 100 + k as u64);
-                seal = Some(s);
-                let name = format!("p{k}.csv");
-                let rec = Record::parse(&text, Path::new(&name)).unwrap();
-                (name, rec)
-            })
-            .collect();
-        let seal = seal.unwrap();
-        let a = across::analyse(&recs, &Options::default()).unwrap();
-        let t = a
-            .trends
-            .iter()
-            .find(|t| t.level == "coulomb_force_n" && t.condition == "pressure_bar")
-            .unwrap();
-        println!("true {:.3} N/bar: {}", seal.coulomb_per_bar, t.sentence());
-        assert_eq!(t.significant, dependent, "{}", t.sentence());
-        assert!(
-            t.ci_low <= seal.coulomb_per_bar && seal.coulomb_per_bar <= t.ci_high,
-            "true {} outside {}",
-            seal.coulomb_per_bar,
-            t.sentence()
-        );
-    }
+    let seal = Seal::random(&mut Rng::new(seed), dependent);
+    let recs: Vec<(String, Record)> = series(&seal, &bars, seed)
+        .into_iter()
+        .map(|(name, text)| {
+            let rec = Record::parse(&text, Path::new(&name)).unwrap();
+            (name, rec)
+        })
+        .collect();
+    let a = across::analyse(&recs, &Options::default()).unwrap();
+    let t = a
+        .trends
+        .iter()
+        .find(|t| t.level == "coulomb_force_n" && t.condition == "pressure_bar")
+        .unwrap();
+    println!("true {:.3} N/bar: {}", seal.coulomb_per_bar, t.sentence());
+    assert_eq!(t.significant, dependent, "{}", t.sentence());
+    assert!(
+        t.ci_low <= seal.coulomb_per_bar && seal.coulomb_per_bar <= t.ci_high,
+        "true {} outside {}",
+        seal.coulomb_per_bar,
+        t.sentence()
+    );
 }

@@ -183,10 +183,7 @@ fn run_across(a: &DiagnoseArgs, files: &[std::path::PathBuf]) -> Result<(), Stri
             r.rel_err_pct
         );
     }
-    println!(
-        "
-across records:"
-    );
+    println!("\nacross records:");
     for t in &across.trends {
         println!("  {}", t.sentence());
     }
@@ -257,10 +254,10 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                 q.label()
             );
         }
-        for (name, edge) in &s.fit.nonlinear_at_bound {
+        for (name, edge) in &s.fit.flags.at_search_edge {
             println!("   note: {name} ended at the edge of its search range ({edge:.3e})");
         }
-        for (name, why) in &s.fit.priors {
+        for (name, why) in &s.fit.flags.priors {
             println!("   not identifiable: {name}: {why}");
         }
         println!("   where it fails:");

@@ -13,12 +13,13 @@
 //! correlated noise inside a record widen it, unlike the least-squares interval, which assumes
 //! independent samples.
 //!
-//! **Trends** are weighted least squares of a level on a condition with random effects
-//! (DerSimonian-Laird): each record weighs `1 / (se_i^2 + tau^2)`, where `tau^2` is the
-//! run-to-run scatter beyond the records' own intervals, estimated from the data. The slope's
-//! 95 % interval uses Student's t with `n - 2` degrees of freedom; a trend is **significant**
-//! when that interval excludes zero. So the false-positive rate is 5 % by construction, and the
-//! `across_records` benchmark measures it.
+//! **Trends** are weighted least squares of a level on a condition with random effects: each
+//! record weighs `1 / (se_i^2 + tau^2)`, where `tau^2` is the scatter between records beyond
+//! their own intervals (model error that differs from record to record, which no interval from
+//! within one record can see), chosen by the Paule-Mandel rule: the weighted residuals of the
+//! line must scatter as their weights say (`Q(tau^2) = n - 2`). The slope's 95 % interval uses
+//! Student's t with `n - 2` degrees of freedom; a trend is **significant** when that interval
+//! excludes zero. The `across_records` benchmark measures how often that is right.
 
 use super::fit::{self, Param};
 use super::inverse::{AxisModel, Prepared};
@@ -260,8 +261,9 @@ pub fn trends(levels: &[RecordLevels]) -> Vec<Trend> {
 }
 
 /// Random-effects weighted regression `y = a + b x` over points (x, y, se): returns
-/// (b, b_low, b_high, mean y, tau). `tau^2` by the method of moments (DerSimonian-Laird
-/// generalised to a regression): `tau^2 = max(0, (Q - (n - 2)) / (sum w - tr))`.
+/// (b, b_low, b_high, mean y, tau). `tau^2` by Paule-Mandel: the root of `Q(tau^2) = n - 2`
+/// (Q falls as tau^2 grows; bisection on a log scale), zero when the points already scatter
+/// no more than their intervals say.
 fn random_effects_slope(pts: &[(f64, f64, f64)]) -> Option<(f64, f64, f64, f64, f64)> {
     let n = pts.len();
     if n < 3 {
@@ -293,33 +295,43 @@ fn random_effects_slope(pts: &[(f64, f64, f64)]) -> Option<(f64, f64, f64, f64, 
             .sum();
         (b, ym, sxx, q, w, sw)
     };
-    let (_, _, _, q0, w0, sw0) = wls(0.0);
-    let sw2: f64 = w0.iter().map(|w| w * w).sum();
-    let tau2 = ((q0 - (n as f64 - 2.0)) / (sw0 - sw2 / sw0).max(1e-300)).max(0.0);
+    let dof = n as f64 - 2.0;
+    let q_of = |tau2: f64| wls(tau2).3;
+    let tau2 = if q_of(0.0) <= dof {
+        0.0
+    } else {
+        // bracket: Q(hi) < dof once tau^2 exceeds the spread of the levels themselves
+        let spread = pts.iter().map(|p| p.1 * p.1).sum::<f64>().max(1e-300);
+        let (mut lo, mut hi) = (1e-12 * spread, spread);
+        while q_of(hi) > dof && hi < 1e12 * spread {
+            hi *= 10.0;
+        }
+        for _ in 0..100 {
+            let mid = (lo * hi).sqrt();
+            if q_of(mid) > dof {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        hi
+    };
     let (b, ym, sxx, q, _, _) = wls(tau2);
     if !(sxx > 0.0 && b.is_finite()) {
         return None;
     }
     // the slope's standard error: from the weights, inflated when the points scatter more
-    // than their weights say (a conservative Knapp-Hartung adjustment)
+    // than their weights say (Knapp-Hartung; 1 once tau^2 solves Q = n - 2)
     let scale = (q / (n as f64 - 2.0)).max(1.0);
     let se_b = (scale / sxx).sqrt();
     let t = student_t95(n - 2);
     Some((b, b - t * se_b, b + t * se_b, ym, tau2.sqrt()))
 }
 
-/// Two-sided 95 % quantile of Student's t with `df` degrees of freedom.
+/// Two-sided 95 % quantile of Student's t with `df` degrees of freedom (infinite for none).
 pub fn student_t95(df: usize) -> f64 {
-    const T: [f64; 30] = [
-        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
-        2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,
-        2.052, 2.048, 2.045, 2.042,
-    ];
-    match df {
-        0 => f64::INFINITY,
-        1..=30 => T[df - 1],
-        _ => 1.96 + 2.5 / df as f64,
-    }
+    use statrs::distribution::{ContinuousCDF, StudentsT};
+    StudentsT::new(0.0, 1.0, df as f64).map_or(f64::INFINITY, |t| t.inverse_cdf(0.975))
 }
 
 #[cfg(test)]
@@ -355,6 +367,14 @@ mod tests {
             .collect();
         let (_, lo, hi, _, tau) = random_effects_slope(&pts).unwrap();
         assert!(tau > 0.5 && lo < 0.0 && hi > 0.0, "{lo} {hi} {tau}");
+    }
+
+    #[test]
+    fn student_quantiles_match_the_tables() {
+        assert!((student_t95(1) - 12.706).abs() < 1e-3);
+        assert!((student_t95(3) - 3.182).abs() < 1e-3);
+        assert!((student_t95(30) - 2.042).abs() < 1e-3);
+        assert!(student_t95(0).is_infinite());
     }
 
     #[test]

@@ -100,10 +100,43 @@ pub struct Fit {
     pub estimates: Vec<Estimate>,
     /// Linear parameters that ended at a bound of their physical range (see [`Bounds`]).
     pub at_bound: Vec<Param>,
+    /// What the searches concluded about parameters beyond their values.
+    pub flags: Flags,
+}
+
+/// What the searches of a fit concluded about its parameters, beyond their values (carried
+/// from fit to fit as the model is refined).
+#[derive(Clone, Debug, Default)]
+pub struct Flags {
     /// Parameters the record does not determine, held at their documented prior (name, why).
     pub priors: Vec<(&'static str, String)>,
     /// Nonlinear parameters whose best value is the edge of their search range (name, edge).
-    pub nonlinear_at_bound: Vec<(&'static str, f64)>,
+    pub at_search_edge: Vec<(&'static str, f64)>,
+}
+
+impl Flags {
+    /// The flags of every parameter but `name` (whose search is being redone).
+    pub fn without(&self, name: &str) -> Self {
+        Self {
+            priors: self
+                .priors
+                .iter()
+                .filter(|q| q.0 != name)
+                .cloned()
+                .collect(),
+            at_search_edge: self
+                .at_search_edge
+                .iter()
+                .filter(|q| q.0 != name)
+                .copied()
+                .collect(),
+        }
+    }
+
+    /// True when `name` is held at its prior.
+    pub fn is_prior(&self, name: &str) -> bool {
+        self.priors.iter().any(|q| q.0 == name)
+    }
 }
 
 impl Fit {
@@ -255,8 +288,7 @@ fn refit_iterations(
         rss,
         estimates,
         at_bound,
-        priors: Vec::new(),
-        nonlinear_at_bound: Vec::new(),
+        flags: Flags::default(),
     }
 }
 
@@ -289,8 +321,9 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
 /// - Coulomb level `Fc` in `[0, 3 F_max]` and `Fs = Fc + hump <= 3 F_max`, `F_max` the largest
 ///   measured force: friction cannot exceed several times the force that moved the axis;
 /// - viscous `sigma2 >= 0` with `sigma2 v_max <= 3 F_max`;
-/// - bristle damping `sigma1 >= 0`, with `sigma1 |dz/dt|_max <= 3 F_max` and, when the mass is
-///   known, `sigma1 <= 5 sqrt(sigma0 M)` (five times critical damping of the bristle mode);
+/// - bristle damping `sigma1 >= 0`, with `sigma1 v_max <= 3 F_max` (in pre-sliding `dz/dt ~ v`)
+///   and, with a mass, `sigma1 <= 5 sqrt(sigma0 M)` (five times critical damping of the bristle
+///   mode);
 /// - asymmetry ratios in `[-0.95, 0.95]`; an offset within `+-3 F_max`.
 #[derive(Clone, Copy, Debug)]
 pub struct Bounds {
@@ -304,9 +337,8 @@ impl Bounds {
     /// The bounds for `m` (its sigma0, its mass) on record `p`.
     pub fn of(m: &AxisModel, p: &Prepared, fixed_mass: Option<f64>) -> Self {
         let force = 3.0 * p.max_abs_force.max(1e-9);
-        let v_max = p.v.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-6);
+        let v_max = p.max_abs_velocity.max(1e-6);
         let mass = fixed_mass.unwrap_or(m.mass_kg);
-        // the fastest bristle rate the model itself can reach: sliding at v_max
         let critical = 5.0 * (m.friction.params.bristle_stiffness() * mass.max(0.0)).sqrt();
         let damping = if critical > 0.0 {
             (force / v_max).min(critical)
@@ -337,14 +369,18 @@ impl Bounds {
         }
     }
 
-    /// True when `value` (in reported coordinates) sits on the edge of its range.
+    /// True when `value` (in reported coordinates: Fs itself for [`Param::Static`]) sits on
+    /// the edge of its range.
     pub fn at_bound(&self, param: Param, value: f64) -> bool {
-        let (lo, hi) = self.range(param);
+        let (lo, hi) = match param {
+            Param::Static => (0.0, self.force), // Fs <= 3 F_max
+            _ => self.range(param),
+        };
         let finite_width = if (hi - lo).is_finite() { hi - lo } else { 0.0 };
         let tol = 1e-6 * finite_width.max(value.abs()).max(1e-12);
         match param {
-            // a zero hump is Fs = Fc, a legitimate answer ("no Stribeck effect"); a zero
-            // damping too: only the upper edges of those say the data pushed against physics
+            // Fs = Fc (no hump), zero damping, zero viscous friction are legitimate answers:
+            // only the upper edges of those say the data pushed against physics
             Param::Static | Param::BristleDamping | Param::Viscous => value >= hi - tol,
             _ => value <= lo + tol || value >= hi - tol,
         }
@@ -587,9 +623,10 @@ fn linear_step(
 }
 
 /// Minimises `x' A x / 2 - b' x` over the box `lo <= x <= hi` (A symmetric positive
-/// semi-definite) by an active set: solve on the free variables, pin the one that leaves the
-/// box furthest at its bound, and release a pinned one whose gradient points inside. Exact
-/// for the few (<= 15) parameters here; a singular direction gets the minimum-norm solution.
+/// semi-definite) by an active set: solve on the free variables, step toward that solution up
+/// to the first bound met and pin that variable there; once the free solution lies inside,
+/// release a pinned variable whose gradient points into the box. Exact for the few (<= 15)
+/// parameters here; a singular direction gets the minimum-norm solution.
 pub(crate) fn box_solve(
     a: &DMatrix<f64>,
     b: &DVector<f64>,
@@ -619,32 +656,27 @@ pub(crate) fn box_solve(
                 }
             }
             let y = pinv(af) * bf;
-            // step from x toward y, stopping at the first bound met
+            // step from x toward y, stopping at the first bound met: (variable, bound)
             let mut step = 1.0f64;
             let mut blocking = None;
             for (r, &i) in free.iter().enumerate() {
                 let d = y[r] - x[i];
-                let limit = if d > 0.0 {
-                    (hi[i] - x[i]) / d
-                } else if d < 0.0 {
-                    (lo[i] - x[i]) / d
+                let bound = if d > 0.0 { hi[i] } else { lo[i] };
+                let limit = if d != 0.0 {
+                    (bound - x[i]) / d
                 } else {
                     f64::INFINITY
                 };
                 if limit < step {
                     step = limit.max(0.0);
-                    blocking = Some(i);
+                    blocking = Some((i, bound));
                 }
             }
             for (r, &i) in free.iter().enumerate() {
                 x[i] += step * (y[r] - x[i]);
             }
-            if let Some(i) = blocking {
-                x[i] = if y[free.iter().position(|&j| j == i).unwrap_or(0)] > x[i] {
-                    hi[i]
-                } else {
-                    lo[i]
-                };
+            if let Some((i, bound)) = blocking {
+                x[i] = bound;
                 pinned[i] = true;
                 continue;
             }
@@ -854,3 +886,31 @@ const LS_STRIDE: usize = 4;
 pub const VISCOUS_REFERENCE_VELOCITY: f64 = 0.02;
 /// Below this speed the fitted dwell model counts the axis as stuck [m/s].
 pub const DWELL_STICK_VELOCITY: f64 = 2e-4;
+
+#[cfg(test)]
+mod box_solve_tests {
+    use super::*;
+
+    #[test]
+    fn box_solve_matches_the_constrained_minimum() {
+        // f = (x0 - 3)^2 + (x1 + 2)^2 + x0 x1 on [0, 1] x [0, 5]: unconstrained (5.33, -4.67);
+        // x0 pinned at 1, then x1 = max(0, -2 - 1/2) = 0
+        let a = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+        let b = DVector::from_vec(vec![6.0, -4.0]);
+        let x = box_solve(&a, &b, &[0.0, 0.0], &[1.0, 5.0]);
+        assert!((x[0] - 1.0).abs() < 1e-12 && x[1].abs() < 1e-12, "{x}");
+        // with room, the unconstrained minimum itself
+        let x = box_solve(&a, &b, &[-10.0, -10.0], &[10.0, 10.0]);
+        assert!(
+            (x[0] - 16.0 / 3.0).abs() < 1e-9 && (x[1] + 14.0 / 3.0).abs() < 1e-9,
+            "{x}"
+        );
+        // an optimum inside the box with a bound at zero is found exactly (x1 starts on it)
+        let b = DVector::from_vec(vec![-1.0, 4.0]);
+        let x = box_solve(&a, &b, &[-10.0, 0.0], &[10.0, 10.0]);
+        assert!(
+            (x[0] + 2.0).abs() < 1e-9 && (x[1] - 3.0).abs() < 1e-9,
+            "{x}"
+        );
+    }
+}

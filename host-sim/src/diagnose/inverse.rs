@@ -60,12 +60,12 @@ pub struct Prepared {
     pub force_norm_all: f64,
     /// Stretches of uniform sampling between logger gaps (index ranges; one for most records).
     pub segments: Vec<std::ops::Range<usize>>,
-    /// True at the first sample of each segment (the friction state restarts there).
-    pub restart: Vec<bool>,
     /// What was done to the record's timing, in words (empty when nothing was).
     pub notes: Vec<String>,
     /// Largest measured force magnitude, unfiltered [N] (bounds the friction levels).
     pub max_abs_force: f64,
+    /// Largest speed of the filtered motion [m/s] (bounds the viscous and damping terms).
+    pub max_abs_velocity: f64,
 }
 
 /// Below this speed (after filtering) the axis counts as stuck [m/s]. There friction balances
@@ -99,20 +99,15 @@ impl Prepared {
         let pos = LowPass::butterworth4(protocol.position_cutoff_hz.min(0.2 * fs), fs);
         let parallel = LowPass::butterworth4(protocol.parallel_cutoff_hz.min(0.1 * fs), fs);
         let by_segment = |f: &LowPass, x: &[f64]| -> Vec<f64> {
-            segments
-                .iter()
-                .flat_map(|r| f.filtfilt(&x[r.clone()]))
-                .collect()
+            segmented(f, &segments, &[x]).pop().unwrap_or_default()
         };
         let x = by_segment(&pos, &rec.x);
         let mut v = vec![0.0; n];
         let mut a = vec![0.0; n];
         let mut v_step = vec![0.0; n];
-        let mut restart = vec![false; n];
         for r in &segments {
             v[r.clone()].copy_from_slice(&central_difference(&x[r.clone()], dt));
             a[r.clone()].copy_from_slice(&central_difference(&v[r.clone()], dt));
-            restart[r.start] = true;
             v_step[r.start] = v[r.start];
             for i in r.start + 1..r.end {
                 v_step[i] = (x[i] - x[i - 1]) / dt;
@@ -161,6 +156,7 @@ impl Prepared {
         let pressure_sum = pressure.map(|s: Vec<f64>| by_segment(&pos, &s));
         let temperature = rec.temp.as_ref().map(|t| by_segment(&pos, t));
         let max_abs_force = rec.force.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+        let max_abs_velocity = v.iter().fold(0.0f64, |m, s| m.max(s.abs()));
         Ok(Self {
             dt,
             t: rec.t.clone(),
@@ -176,36 +172,20 @@ impl Prepared {
             force_norm,
             force_norm_all,
             segments,
-            restart,
             notes: uniform.notes,
             max_abs_force,
+            max_abs_velocity,
         })
     }
 
     /// The parallel (zero-phase) filter applied to a force column, segment by segment.
     pub fn filter(&self, x: &[f64]) -> Vec<f64> {
-        if self.segments.len() == 1 {
-            return self.parallel.filtfilt(x);
-        }
-        self.segments
-            .iter()
-            .flat_map(|r| self.parallel.filtfilt(&x[r.clone()]))
-            .collect()
+        self.filter_many(&[x]).pop().unwrap_or_default()
     }
 
     /// [`Self::filter`] of several columns at once.
     pub fn filter_many(&self, xs: &[&[f64]]) -> Vec<Vec<f64>> {
-        if self.segments.len() == 1 {
-            return self.parallel.filtfilt_many(xs);
-        }
-        let mut out: Vec<Vec<f64>> = xs.iter().map(|x| Vec::with_capacity(x.len())).collect();
-        for r in &self.segments {
-            let parts: Vec<&[f64]> = xs.iter().map(|x| &x[r.clone()]).collect();
-            for (o, f) in out.iter_mut().zip(self.parallel.filtfilt_many(&parts)) {
-                o.extend(f);
-            }
-        }
-        out
+        segmented(&self.parallel, &self.segments, xs)
     }
 
     /// Number of samples.
@@ -273,6 +253,23 @@ impl Prepared {
     }
 }
 
+/// Zero-phase filtering of each column, segment by segment (never across a logger gap).
+fn segmented(f: &LowPass, segments: &[std::ops::Range<usize>], xs: &[&[f64]]) -> Vec<Vec<f64>> {
+    if let [whole] = segments {
+        if whole.start == 0 && xs.iter().all(|x| x.len() == whole.end) {
+            return f.filtfilt_many(xs);
+        }
+    }
+    let mut out: Vec<Vec<f64>> = xs.iter().map(|x| Vec::with_capacity(x.len())).collect();
+    for r in segments {
+        let parts: Vec<&[f64]> = xs.iter().map(|x| &x[r.clone()]).collect();
+        for (o, y) in out.iter_mut().zip(f.filtfilt_many(&parts)) {
+            o.extend(y);
+        }
+    }
+    out
+}
+
 fn central_difference(x: &[f64], dt: f64) -> Vec<f64> {
     let n = x.len();
     let mut d = vec![0.0; n];
@@ -311,7 +308,6 @@ impl AxisModel {
     pub fn simulate(&self, p: &Prepared) -> Simulation {
         let n = p.len();
         let reference = self.friction.effects.reference_conditions();
-        let mut st = FrictionState::default();
         let mut out = Simulation {
             friction: Vec::with_capacity(n),
             bristle: Vec::with_capacity(n),
@@ -319,19 +315,20 @@ impl AxisModel {
             deflection_rate: Vec::with_capacity(n),
         };
         let sigma0 = self.friction.params.bristle_stiffness();
-        for i in 0..n {
-            if p.restart[i] {
-                st = FrictionState::default();
+        for r in &p.segments {
+            // the friction state restarts at each segment (nothing is known across a gap)
+            let mut st = FrictionState::default();
+            for i in r.clone() {
+                let c = p.conditions(i, &reference);
+                let v = p.v_step[i];
+                let f = self.friction.step_split(&mut st, v, p.v[i], &c, p.dt);
+                let levels = self.friction.levels(v, &c, st.dwell_time);
+                let g = self.friction.stribeck_curve(v, &levels);
+                out.friction.push(f);
+                out.bristle.push((sigma0 * st.z / g).clamp(-1.0, 1.0));
+                out.dwell.push(st.dwell_time);
+                out.deflection_rate.push(st.deflection_rate);
             }
-            let c = p.conditions(i, &reference);
-            let v = p.v_step[i];
-            let f = self.friction.step_split(&mut st, v, p.v[i], &c, p.dt);
-            let levels = self.friction.levels(v, &c, st.dwell_time);
-            let g = self.friction.stribeck_curve(v, &levels);
-            out.friction.push(f);
-            out.bristle.push((sigma0 * st.z / g).clamp(-1.0, 1.0));
-            out.dwell.push(st.dwell_time);
-            out.deflection_rate.push(st.deflection_rate);
         }
         out
     }

@@ -329,25 +329,12 @@ fn search_one(
         start.clone()
     };
     // flags of the other parameters carry over; this one's are decided here
-    let inherited = |f: &mut Fit| {
-        f.priors = start
-            .priors
-            .iter()
-            .filter(|q| q.0 != which.name())
-            .cloned()
-            .collect();
-        f.nonlinear_at_bound = start
-            .nonlinear_at_bound
-            .iter()
-            .filter(|q| q.0 != which.name())
-            .cloned()
-            .collect();
-    };
+    let inherited = start.flags.without(which.name());
     if flat {
         let prior = which.prior(&best.model, p);
         let mut f = fit::refit(&which.set(&best.model, prior), p, fixed_mass, n_eff);
-        inherited(&mut f);
-        f.priors.push((
+        f.flags = inherited;
+        f.flags.priors.push((
             which.name(),
             format!(
                 "the record does not determine it (the fit changes by less than the 95 % threshold over {:.3e}..{:.3e}); held at its prior {:.3e}",
@@ -365,13 +352,14 @@ fn search_one(
     if f2.rss < best.rss {
         best = f2;
     }
-    inherited(&mut best);
-    let v = which.get(&best.model);
-    if (v.ln() - llo).abs() < 1e-3 || (v.ln() - lhi).abs() < 1e-3 {
-        best.nonlinear_at_bound.push((
-            which.name(),
-            if (v.ln() - llo).abs() < 1e-3 { lo } else { hi },
-        ));
+    best.flags = inherited;
+    let lv = which.get(&best.model).ln();
+    if let Some(edge) = [(llo, lo), (lhi, hi)]
+        .iter()
+        .find(|(l, _)| (lv - l).abs() < 1e-3)
+        .map(|e| e.1)
+    {
+        best.flags.at_search_edge.push((which.name(), edge));
     }
     best
 }
@@ -409,7 +397,7 @@ pub fn static_seed(p: &Prepared, fixed_mass: Option<f64>) -> AxisModel {
 /// parameters (M, Fc, Fs - Fc, sigma2, sigma1) are solved within their physical box
 /// ([`fit::Bounds`]); the Stribeck velocity and sigma0 by bounded continuous search
 /// ([`stribeck_range`], [`BRISTLE_STIFFNESS_RANGE`]), twice in turn. A parameter the record does
-/// not determine is held at a documented prior and listed in [`Fit::priors`].
+/// not determine is held at a documented prior and listed in [`fit::Flags::priors`].
 pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
     let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
     if let Some(g) = &opts.given {
@@ -434,14 +422,15 @@ fn mark_unidentified_linear(f: &mut Fit, p: &Prepared, fixed_mass: Option<f64>, 
             .filter(|e| e.value - 1.96 * e.std_error <= 0.0)
             .map(|e| (e.value, 1.96 * e.std_error))
     };
-    f.priors
-        .retain(|q| q.0 != Param::Mass.label() && q.0 != Param::BristleDamping.label());
+    f.flags = f
+        .flags
+        .without(Param::Mass.label())
+        .without(Param::BristleDamping.label());
     if fixed_mass.is_none() {
         if let Some((v, h)) = ci_reaches_zero(f, Param::Mass) {
             let mut g = fit::refit(&f.model, p, Some(0.0), n_eff);
-            g.priors = f.priors.clone();
-            g.nonlinear_at_bound = f.nonlinear_at_bound.clone();
-            g.priors.push((
+            g.flags = f.flags.clone();
+            g.flags.priors.push((
                 Param::Mass.label(),
                 format!("the inertial force is below what the record resolves ({v:.3e} +- {h:.1e} kg, 95 %, includes 0); held at its prior 0: give --mass for a controller"),
             ));
@@ -449,7 +438,7 @@ fn mark_unidentified_linear(f: &mut Fit, p: &Prepared, fixed_mass: Option<f64>, 
         }
     }
     if let Some((v, h)) = ci_reaches_zero(f, Param::BristleDamping) {
-        f.priors.push((
+        f.flags.priors.push((
             Param::BristleDamping.label(),
             format!("the record does not resolve the bristle dynamics ({v:.3e} +- {h:.1e} N s/m, 95 %, includes its prior 0)"),
         ));
@@ -482,7 +471,7 @@ pub fn polish(
             let f = search_one(*which, &best, p, fixed_mass, n_eff);
             // on the last round a parameter the record does not determine goes to its prior
             // (the profile is flat: the fit changes by less than the 95 % threshold)
-            let held = round + 1 == rounds && f.priors.iter().any(|q| q.0 == which.name());
+            let held = round + 1 == rounds && f.flags.is_prior(which.name());
             if f.rss < best.rss || held {
                 best = f;
             }
@@ -495,8 +484,7 @@ pub fn polish(
             });
             let mut f = fit::refit(&f.model, p, fixed_mass, n_eff);
             if f.rss < best.rss {
-                f.priors = best.priors.clone();
-                f.nonlinear_at_bound = best.nonlinear_at_bound.clone();
+                f.flags = best.flags.clone();
                 best = f;
             }
         }
@@ -757,23 +745,18 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
         fixed_mass,
         n_eff,
     )];
-    let mut to_add: Vec<String> = opts.add.clone();
-    let mut auto_left = opts.auto;
-    loop {
-        let e = if let Some(e) = (!to_add.is_empty()).then(|| to_add.remove(0)) {
-            e
-        } else if auto_left > 0 {
-            auto_left -= 1;
-            match stages[stages.len() - 1]
+    // the effects asked for, then (with `auto`) the first significant candidate each time
+    for k in 0..opts.add.len() + opts.auto {
+        let e = match opts.add.get(k) {
+            Some(e) => e.clone(),
+            None => match stages[stages.len() - 1]
                 .candidates
                 .iter()
                 .find(|c| c.significant)
             {
                 Some(c) => c.effect.clone(),
                 None => break,
-            }
-        } else {
-            break;
+            },
         };
         let prev = &stages[stages.len() - 1];
         let fit = prev
@@ -825,16 +808,17 @@ fn stage(label: String, fit: Fit, p: &Prepared, fixed_mass: Option<f64>, n_eff: 
 }
 
 /// The parameter file of a diagnosis's final model, with which values the record determined
-/// and which are priors. Refused, with the reason, when a value would be non-physical for a
-/// controller: a moving mass the record does not determine (give `user_mass`), or a set the
-/// core's plausibility check refuses ([`lugre_servo::friction::LugreParams::check_physical`]).
+/// and which are priors. Refused, with the reason, when the record does not determine the
+/// moving mass a controller needs (give `user_mass`). The values themselves are checked when
+/// the file is written ([`crate::params_file::ParamFile::write_checked`], the core's
+/// `LugreParams::check_physical`), not here, so a benchmark can count non-physical results.
 pub fn parameter_file(
     d: &Diagnosis,
     user_mass: Option<f64>,
 ) -> Result<crate::params_file::ParamFile, String> {
     let m = d.model();
     let last = &d.stages[d.stages.len() - 1].fit;
-    let priors: Vec<String> = last.priors.iter().map(|q| q.0.to_string()).collect();
+    let priors: Vec<String> = last.flags.priors.iter().map(|q| q.0.to_string()).collect();
     if priors.iter().any(|p| p == Param::Mass.label()) && user_mass.is_none() {
         return Err(
             "the record does not determine the moving mass (its 95 % interval includes 0 kg); a controller needs it: give --mass KG".into(),
@@ -847,14 +831,10 @@ pub fn parameter_file(
         .estimates
         .iter()
         .map(|e| e.param.label().to_string())
-        .chain([
-            "stribeck_velocity_m_per_s".into(),
-            "bristle_stiffness_n_per_m".into(),
-        ])
+        .chain([Nonlinear::StribeckVelocity, Nonlinear::BristleStiffness].map(|q| q.name().into()))
         .filter(|n| !(priors.contains(n) || (n == Param::Mass.label() && user_mass.is_some())))
         .collect();
     file.fit.not_identifiable = priors;
-    file.model()?;
     Ok(file)
 }
 

@@ -222,3 +222,27 @@ pub fn record(seal: &Seal, pressure_bar: f64, logger: Logger, seed: u64) -> (Str
     };
     (out, truth)
 }
+
+/// A random rig record: a random seal (pressure-energised on 70 % of seeds), logger and
+/// chamber pressure (1..7 bar).
+pub fn random_record(seed: u64) -> (String, RigTruth) {
+    let mut rng = Rng::new(seed);
+    let dependent = rng.uniform() < 0.7;
+    let seal = Seal::random(&mut rng, dependent);
+    let logger = Logger::random(&mut rng);
+    let bar = rng.range(1.0, 7.0);
+    record(&seal, bar, logger, seed.wrapping_mul(31).wrapping_add(7))
+}
+
+/// Records of one seal at several chamber pressures, each with its own random logger:
+/// (name, CSV text) per pressure.
+pub fn series(seal: &Seal, bars: &[f64], seed: u64) -> Vec<(String, String)> {
+    bars.iter()
+        .enumerate()
+        .map(|(k, bar)| {
+            let logger = Logger::random(&mut Rng::new(seed * 10 + k as u64));
+            let (text, _) = record(seal, *bar, logger, seed * 100 + k as u64);
+            (format!("p{k}.csv"), text)
+        })
+        .collect()
+}
