@@ -36,6 +36,7 @@ fn main() {
     let mut found = [0usize; 2];
     let mut cases = [0usize; 2];
     let mut slope_err = Vec::new();
+    let mut covered = 0usize;
     for r in 0..rigs {
         let dependent = r % 2 == 0;
         let mut rng = Rng::new(31 + r);
@@ -49,6 +50,8 @@ fn main() {
             .expect("a pressure trend");
         cases[usize::from(dependent)] += 1;
         found[usize::from(dependent)] += usize::from(t.significant);
+        covered +=
+            usize::from(t.ci_low <= seal.coulomb_per_bar && seal.coulomb_per_bar <= t.ci_high);
         slope_err.push(t.slope - seal.coulomb_per_bar);
         println!(
             "rig {r:2} true {:.3} N/bar: {}",
@@ -92,6 +95,10 @@ fn main() {
         found[0],
         cases[0],
         100.0 * found[0] as f64 / cases[0].max(1) as f64
+    );
+    println!(
+        "the slope's 95 % interval holds the true slope: {covered}/{}",
+        cases[0] + cases[1]
     );
     println!(
         "median |slope error|: {:.3} N/bar",

@@ -417,15 +417,22 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
 /// controller), and refitted without it; sigma1 stays where the bounded fit put it (its prior,
 /// zero, lies inside its interval) and is listed as not identifiable.
 fn mark_unidentified_linear(f: &mut Fit, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) {
+    // an undefined interval (NaN standard error) also counts as reaching zero
     let ci_reaches_zero = |f: &Fit, q: Param| {
         f.estimate(q)
-            .filter(|e| e.value - 1.96 * e.std_error <= 0.0)
+            .filter(|e| {
+                let low = e.value - 1.96 * e.std_error;
+                low.is_nan() || low <= 0.0
+            })
             .map(|e| (e.value, 1.96 * e.std_error))
     };
-    f.flags = f
-        .flags
-        .without(Param::Mass.label())
-        .without(Param::BristleDamping.label());
+    // a verdict is redone only where the fit estimated the parameter: a fit that already holds
+    // the mass at its prior (no mass estimate) keeps that flag
+    for q in [Param::Mass, Param::BristleDamping] {
+        if f.estimate(q).is_some() {
+            f.flags = f.flags.without(q.label());
+        }
+    }
     if fixed_mass.is_none() {
         if let Some((v, h)) = ci_reaches_zero(f, Param::Mass) {
             let mut g = fit::refit(&f.model, p, Some(0.0), n_eff);
