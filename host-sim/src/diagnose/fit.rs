@@ -532,13 +532,18 @@ fn linear_step(
     }
     let target: Vec<f64> = p.force.iter().zip(&offset_f).map(|(f, q)| f - q).collect();
 
-    // Scaled normal equations (robust to a column that carries nothing).
+    // Scaled normal equations (robust to a column that carries nothing: an all-zero column,
+    // e.g. the viscous asymmetry of a model with sigma2 = 0, gets scale 1, not a tiny floor
+    // whose square underflows and turns its products into 0/0).
     let scale: Vec<f64> = cols_f
         .iter()
         .map(|c| {
-            (c.iter().map(|v| v * v).sum::<f64>() / n as f64)
-                .sqrt()
-                .max(1e-300)
+            let rms = (c.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+            if rms > 1e-100 {
+                rms
+            } else {
+                1.0
+            }
         })
         .collect();
     let mut xtx = DMatrix::<f64>::zeros(k, k);

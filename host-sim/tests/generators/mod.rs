@@ -5,6 +5,7 @@
 
 #![allow(dead_code)]
 
+pub mod axis;
 pub mod rig;
 
 /// SplitMix64: a small, seedable generator of our own (no shared code with the project's).

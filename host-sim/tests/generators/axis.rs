@@ -1,0 +1,670 @@
+//! A servo axis with friction, for the diagnosis benchmark, written from scratch: no code shared
+//! with `host-sim`'s plant or the core's friction model.
+//!
+//! Two actuators:
+//! - an **ideal force actuator** under a digital PID position loop at 1 kHz (force measured with
+//!   0.2 % of full-scale noise), and
+//! - a **differential hydraulic cylinder** (critically lapped 4-way valve with a first-order
+//!   spool, orifice flow, chamber compressibility, internal leakage, a supply pressure that the
+//!   operator changes now and then) under a proportional position loop with velocity
+//!   feed-forward; the force is measured from the two chamber pressures.
+//!
+//! Friction (LuGre, from its equations; sub-steps of 20 us, the bristle state implicit Euler, the
+//! mechanics semi-implicit Euler):
+//!
+//! ```text
+//! dz/dt = v - sigma0 |v| z / g(v)
+//! F = sigma0 z + sigma1 dz/dt + F_visc(v) + F_extra
+//! ```
+//!
+//! with at most one hidden effect, whose **shape differs from the diagnosis's own**: asymmetry
+//! with separate Coulomb, static and viscous ratios; a load dependence that is a power of the
+//! pressure sum; position dependence as a linear gradient, a periodic ripple or a local wear
+//! bump; temperature through an Andrade viscosity law and a linear Coulomb drift; a rational or
+//! stretched-exponential Stribeck curve; a power-law viscous term; a Hill-type dwell stiction.
+//! Base parameters are drawn over wide ranges (soft and stiff contacts, light and heavy masses,
+//! damped and undamped bristles); the excitation is a random schedule of moves (1..120 mm/s)
+//! with dwells (0.05..3 s) and sinusoids with reversals. The encoder has 1 um resolution.
+
+use super::Rng;
+
+/// The hidden effects, spelled as the diagnosis names them.
+pub const EFFECTS: [&str; 8] = [
+    "asymmetry",
+    "offset",
+    "load_dependence",
+    "position_dependence",
+    "temperature_dependence",
+    "stribeck_shape",
+    "viscous_power",
+    "dwell_stiction",
+];
+
+/// Sample period of the record [s].
+pub const DT: f64 = 1e-3;
+/// Integration sub-steps per sample.
+const SUB: usize = 50;
+/// Below this speed the dwell clock runs [m/s].
+const STICK_SPEED: f64 = 5e-5;
+
+/// Which actuator moves the axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Actuator {
+    /// Ideal force actuator, force measured.
+    Force,
+    /// Differential hydraulic cylinder, force from the chamber pressures.
+    Hydraulic,
+}
+
+/// How friction varies along the stroke.
+#[derive(Clone, Copy, Debug)]
+pub enum PositionShape {
+    /// `dF = k (x - x_c)`.
+    Linear { per_m: f64, centre_m: f64 },
+    /// `dF = a sin(2 pi x / lambda + phi)`.
+    Periodic {
+        amplitude_n: f64,
+        wavelength_m: f64,
+        phase: f64,
+    },
+    /// `dF = a exp(-((x - x_b) / w)^2)` (a worn or tight spot).
+    Bump {
+        amplitude_n: f64,
+        centre_m: f64,
+        width_m: f64,
+    },
+}
+
+/// The hidden effect and its shape.
+#[derive(Clone, Copy, Debug)]
+pub enum Shape {
+    /// Plain LuGre.
+    None,
+    /// Separate multipliers per direction (`+` = moving in +x).
+    Asymmetry {
+        coulomb: [f64; 2],
+        static_: [f64; 2],
+        viscous: [f64; 2],
+    },
+    /// Constant external force [N].
+    Offset { force_n: f64 },
+    /// `Fc, Fs -> (1 + s ((p_sum / p_ref)^gamma - 1)) Fc, Fs`.
+    Load {
+        strength: f64,
+        exponent: f64,
+        reference_pa: f64,
+    },
+    /// `Fc, Fs += dF(x)`.
+    Position(PositionShape),
+    /// `sigma2 -> sigma2 exp(B (1/T - 1/T0))` (Andrade), `Fc, Fs -> (1 + k (T - T0)) Fc, Fs`.
+    Temperature { andrade_k: f64, coulomb_per_k: f64 },
+    /// `g = Fc + (Fs - Fc) / (1 + |v/vs|^d)` (rational) or `exp(-|v/vs|^d)` (stretched).
+    Stribeck { rational: bool, exponent: f64 },
+    /// `F_visc = sigma2 v_r sign(v) |v / v_r|^d`.
+    ViscousPower {
+        exponent: f64,
+        reference_m_per_s: f64,
+    },
+    /// `Fs += dF t^n / (t^n + tau^n)`, `t` = time stuck before the motion.
+    Dwell {
+        increase_n: f64,
+        tau_s: f64,
+        hill: f64,
+    },
+}
+
+/// A random axis and its hidden effect: everything the record's truth is made of.
+#[derive(Clone, Debug)]
+pub struct Axis {
+    /// The hidden effect's name (None: effect-free).
+    pub effect: Option<&'static str>,
+    /// Its shape.
+    pub shape: Shape,
+    /// Actuator.
+    pub actuator: Actuator,
+    /// Moving mass [kg].
+    pub mass_kg: f64,
+    /// Coulomb level [N].
+    pub coulomb_n: f64,
+    /// Static level [N].
+    pub static_n: f64,
+    /// Stribeck velocity [m/s].
+    pub stribeck_m_per_s: f64,
+    /// Bristle stiffness [N/m].
+    pub sigma0: f64,
+    /// Bristle damping [N s/m].
+    pub sigma1: f64,
+    /// Viscous coefficient [N s/m].
+    pub sigma2: f64,
+    /// Usable stroke [m].
+    pub stroke_m: f64,
+    /// Oil temperature at the start [degC] and its rise over the record [K] (None: no sensor).
+    pub temperature: Option<(f64, f64, f64)>,
+    /// Position-loop bandwidth [Hz].
+    pub loop_hz: f64,
+    /// Hydraulic cylinder: piston area A [m^2], rod-side ratio A_b / A_a.
+    pub area_m2: f64,
+    /// A_b / A_a.
+    pub area_ratio: f64,
+    /// Record length [s].
+    pub duration_s: f64,
+}
+
+impl Axis {
+    /// A random axis with `effect` hidden (None: none), seeded.
+    pub fn random(effect: Option<&'static str>, seed: u64) -> Self {
+        let mut rng = Rng::new(seed.wrapping_mul(0x2545_F491_4F6C_DD1D).wrapping_add(17));
+        let actuator = if effect == Some("load_dependence") || rng.uniform() < 0.5 {
+            Actuator::Hydraulic
+        } else {
+            Actuator::Force
+        };
+        let mass_kg = match actuator {
+            Actuator::Force => rng.log_range(20.0, 500.0),
+            Actuator::Hydraulic => rng.log_range(100.0, 400.0),
+        };
+        let coulomb_n = rng.log_range(50.0, 800.0);
+        let hump = if effect == Some("stribeck_shape") {
+            rng.range(1.4, 2.0)
+        } else {
+            rng.range(1.1, 1.6)
+        };
+        let static_n = coulomb_n * hump;
+        // pre-sliding length 1 um (stiff metal contact) .. 200 um (soft seal)
+        let sigma0 = static_n / rng.log_range(1e-6, 200e-6);
+        let critical = (sigma0 * mass_kg).sqrt();
+        let sigma1 = if rng.uniform() < 0.5 {
+            rng.range(0.2, 1.0) * critical
+        } else {
+            rng.range(0.0, 0.05) * critical
+        };
+        // viscous force at 0.1 m/s: 0.2..2 Fc
+        let sigma2 = coulomb_n * rng.log_range(0.2, 2.0) / 0.1;
+        let stribeck_m_per_s = rng.log_range(1e-3, 15e-3);
+        let stroke_m = rng.range(0.2, 0.5);
+        let temperature = match effect {
+            Some("temperature_dependence") => Some((
+                rng.range(25.0, 45.0),
+                rng.range(10.0, 30.0),
+                rng.range(8.0, 40.0),
+            )),
+            _ if rng.uniform() < 0.7 => Some((
+                rng.range(25.0, 45.0),
+                rng.range(0.0, 15.0),
+                rng.range(8.0, 40.0),
+            )),
+            _ => None,
+        };
+        let shape = match effect {
+            None => Shape::None,
+            Some("asymmetry") => {
+                let r = rng.range(0.1, 0.3) * if rng.uniform() < 0.5 { 1.0 } else { -1.0 };
+                let rs = r * rng.range(0.6, 1.4);
+                let rv = rng.range(-0.3, 0.3);
+                Shape::Asymmetry {
+                    coulomb: [1.0 + r, 1.0 - r],
+                    static_: [1.0 + rs, 1.0 - rs],
+                    viscous: [1.0 + rv, 1.0 - rv],
+                }
+            }
+            Some("offset") => Shape::Offset {
+                force_n: coulomb_n
+                    * rng.range(0.1, 0.4)
+                    * if rng.uniform() < 0.5 { 1.0 } else { -1.0 },
+            },
+            Some("load_dependence") => Shape::Load {
+                strength: rng.range(0.4, 1.0),
+                exponent: rng.range(0.7, 1.5),
+                reference_pa: 200e5,
+            },
+            Some("position_dependence") => {
+                let a = coulomb_n * rng.range(0.15, 0.4);
+                let sign = if rng.uniform() < 0.5 { 1.0 } else { -1.0 };
+                Shape::Position(match (rng.uniform() * 3.0) as u32 {
+                    0 => PositionShape::Linear {
+                        per_m: sign * a / (0.4 * stroke_m),
+                        centre_m: rng.range(-0.1, 0.1) * stroke_m,
+                    },
+                    1 => PositionShape::Periodic {
+                        amplitude_n: a,
+                        wavelength_m: rng.range(0.25, 0.8) * stroke_m,
+                        phase: rng.range(0.0, std::f64::consts::TAU),
+                    },
+                    _ => PositionShape::Bump {
+                        amplitude_n: sign * a * 1.5,
+                        centre_m: rng.range(-0.25, 0.25) * stroke_m,
+                        width_m: rng.range(0.08, 0.2) * stroke_m,
+                    },
+                })
+            }
+            Some("temperature_dependence") => Shape::Temperature {
+                andrade_k: rng.range(1500.0, 3000.0),
+                coulomb_per_k: rng.range(-0.008, 0.008),
+            },
+            Some("stribeck_shape") => {
+                let rational = rng.uniform() < 0.5;
+                let exponent = if rational {
+                    rng.range(1.0, 1.6)
+                } else if rng.uniform() < 0.5 {
+                    rng.range(0.6, 1.1)
+                } else {
+                    rng.range(3.5, 6.0)
+                };
+                Shape::Stribeck { rational, exponent }
+            }
+            Some("viscous_power") => Shape::ViscousPower {
+                exponent: if rng.uniform() < 0.5 {
+                    rng.range(0.35, 0.7)
+                } else {
+                    rng.range(1.4, 2.0)
+                },
+                reference_m_per_s: rng.range(0.02, 0.08),
+            },
+            Some("dwell_stiction") => Shape::Dwell {
+                increase_n: static_n * rng.range(0.2, 0.6),
+                tau_s: rng.log_range(0.1, 1.0),
+                hill: rng.range(0.7, 1.5),
+            },
+            Some(other) => panic!("unknown effect {other}"),
+        };
+        let area_m2 = (6.0 * static_n).max(2000.0) / 100e5 * rng.range(1.0, 2.0);
+        Self {
+            effect,
+            shape,
+            actuator,
+            mass_kg,
+            coulomb_n,
+            static_n,
+            stribeck_m_per_s,
+            sigma0,
+            sigma1,
+            sigma2,
+            stroke_m,
+            temperature,
+            loop_hz: rng.range(8.0, 20.0),
+            area_m2,
+            area_ratio: rng.range(0.5, 0.9),
+            duration_s: 60.0,
+        }
+    }
+
+    /// Oil temperature at time t [degC] (the reference 40 degC without a sensor).
+    fn temperature_at(&self, t: f64) -> f64 {
+        self.temperature
+            .map_or(40.0, |(t0, rise, tau)| t0 + rise * (1.0 - (-t / tau).exp()))
+    }
+
+    /// Friction terms at a state: (Stribeck curve g(v) > 0 [N], viscous force [N], extra force
+    /// [N]). `dwell_s` is the time stuck before the current motion.
+    fn terms(&self, v: f64, x: f64, p_sum: f64, temp: f64, dwell_s: f64) -> (f64, f64, f64) {
+        let (mut fc, mut fs, mut s2) = (self.coulomb_n, self.static_n, self.sigma2);
+        let dir = usize::from(v < 0.0);
+        let mut visc = s2 * v;
+        let mut extra = 0.0;
+        let hump = |fc: f64, fs: f64| fc + (fs - fc) * (-(v / self.stribeck_m_per_s).powi(2)).exp();
+        let g = match self.shape {
+            Shape::None => hump(fc, fs),
+            Shape::Asymmetry {
+                coulomb,
+                static_,
+                viscous,
+            } => {
+                visc = s2 * viscous[dir] * v;
+                hump(fc * coulomb[dir], fs * static_[dir])
+            }
+            Shape::Offset { force_n } => {
+                extra = force_n;
+                hump(fc, fs)
+            }
+            Shape::Load {
+                strength,
+                exponent,
+                reference_pa,
+            } => {
+                let k = 1.0 + strength * ((p_sum.max(1e5) / reference_pa).powf(exponent) - 1.0);
+                hump(fc * k.max(0.05), fs * k.max(0.05))
+            }
+            Shape::Position(ps) => {
+                let d = match ps {
+                    PositionShape::Linear { per_m, centre_m } => per_m * (x - centre_m),
+                    PositionShape::Periodic {
+                        amplitude_n,
+                        wavelength_m,
+                        phase,
+                    } => amplitude_n * (std::f64::consts::TAU * x / wavelength_m + phase).sin(),
+                    PositionShape::Bump {
+                        amplitude_n,
+                        centre_m,
+                        width_m,
+                    } => amplitude_n * (-((x - centre_m) / width_m).powi(2)).exp(),
+                };
+                let d = d.max(-0.9 * fc);
+                hump(fc + d, fs + d)
+            }
+            Shape::Temperature {
+                andrade_k,
+                coulomb_per_k,
+            } => {
+                let t0 = self.temperature.map_or(40.0, |t| t.0);
+                s2 *= (andrade_k * (1.0 / (temp + 273.15) - 1.0 / (t0 + 273.15))).exp();
+                visc = s2 * v;
+                let k = (1.0 + coulomb_per_k * (temp - t0)).max(0.1);
+                fc *= k;
+                fs *= k;
+                hump(fc, fs)
+            }
+            Shape::Stribeck { rational, exponent } => {
+                let r = (v / self.stribeck_m_per_s).abs().powf(exponent);
+                fc + (fs - fc)
+                    * if rational {
+                        1.0 / (1.0 + r)
+                    } else {
+                        (-r).exp()
+                    }
+            }
+            Shape::ViscousPower {
+                exponent,
+                reference_m_per_s,
+            } => {
+                visc = s2
+                    * reference_m_per_s
+                    * v.signum()
+                    * (v / reference_m_per_s).abs().powf(exponent);
+                hump(fc, fs)
+            }
+            Shape::Dwell {
+                increase_n,
+                tau_s,
+                hill,
+            } => {
+                let t = dwell_s.max(0.0).powf(hill);
+                hump(fc, fs + increase_n * t / (t + tau_s.powf(hill)))
+            }
+        };
+        (g.max(1e-6), visc, extra)
+    }
+
+    /// One friction sub-step of length h at velocity v: advances the bristle state (implicit
+    /// Euler, stable for any stiffness) and returns the friction force.
+    fn friction_step(
+        &self,
+        z: &mut f64,
+        v: f64,
+        x: f64,
+        p_sum: f64,
+        temp: f64,
+        dwell: f64,
+        h: f64,
+    ) -> f64 {
+        let (g, visc, extra) = self.terms(v, x, p_sum, temp, dwell);
+        let rate = self.sigma0 * v.abs() / g;
+        *z = (*z + h * v) / (1.0 + h * rate);
+        let zdot = v - rate * *z;
+        self.sigma0 * *z + self.sigma1 * zdot + visc + extra
+    }
+
+    /// The true friction along a given motion (for the noise floor: the true model driven by
+    /// the measured motion): per sample the mean velocity `v_step[i]` over the interval ending
+    /// at sample i, restarted at each segment's first sample.
+    pub fn friction_along(
+        &self,
+        t: &[f64],
+        x: &[f64],
+        v_step: &[f64],
+        p_sum: Option<&[f64]>,
+        temp: Option<&[f64]>,
+        segments: &[std::ops::Range<usize>],
+        dt: f64,
+    ) -> Vec<f64> {
+        let mut out = vec![0.0; x.len()];
+        let h = dt / SUB as f64;
+        for r in segments {
+            let (mut z, mut stuck, mut dwell) = (0.0, 0.0, 0.0);
+            for i in r.clone() {
+                let v = v_step[i];
+                let ps = p_sum.map_or(200e5, |p| p[i]);
+                let tc = temp.map_or(self.temperature_at(t[i]), |q| q[i]);
+                let mut f = 0.0;
+                for k in 0..SUB {
+                    let xi = x[i] - v * (dt - (k as f64 + 1.0) * h);
+                    clock(v, h, &mut stuck, &mut dwell);
+                    f = self.friction_step(&mut z, v, xi, ps, tc, dwell, h);
+                }
+                out[i] = f;
+            }
+        }
+        out
+    }
+}
+
+/// The dwell clock: time stuck so far while stuck; frozen at its value on departure.
+fn clock(v: f64, h: f64, stuck: &mut f64, dwell: &mut f64) {
+    if v.abs() < STICK_SPEED {
+        *stuck += h;
+        *dwell = *stuck;
+    } else {
+        *stuck = 0.0;
+    }
+}
+
+/// Reference trajectory at 1 kHz: position, velocity, acceleration.
+fn schedule(axis: &Axis, rng: &mut Rng) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let n = (axis.duration_s / DT) as usize;
+    let half = 0.45 * axis.stroke_m;
+    let mut xr: Vec<f64> = Vec::with_capacity(n + 8000);
+    let mut x = 0.0;
+    let push_move = |xr: &mut Vec<f64>, from: f64, to: f64, speed: f64, accel: f64| {
+        let d = (to - from).abs();
+        let s = (to - from).signum();
+        let (ta, vp) = if speed * speed / accel > d {
+            ((d / accel).sqrt(), (d * accel).sqrt())
+        } else {
+            (speed / accel, speed)
+        };
+        let tc = (d - vp * ta) / vp;
+        let total = 2.0 * ta + tc.max(0.0);
+        let steps = (total / DT).ceil() as usize;
+        for k in 1..=steps {
+            let t = (k as f64 * DT).min(total);
+            let p = if t < ta {
+                0.5 * accel * t * t
+            } else if t < ta + tc {
+                0.5 * accel * ta * ta + vp * (t - ta)
+            } else {
+                let u = total - t;
+                d - 0.5 * accel * u * u
+            };
+            xr.push(from + s * p);
+        }
+    };
+    while xr.len() < n {
+        if rng.uniform() < 0.6 {
+            // a move, then a dwell
+            let mut to = rng.range(-half, half);
+            if (to - x).abs() < 2e-3 {
+                to = if x > 0.0 { x - 5e-3 } else { x + 5e-3 };
+            }
+            let speed = rng.log_range(1e-3, 0.12);
+            let accel = rng.log_range(0.2, 3.0);
+            push_move(&mut xr, x, to, speed, accel);
+            x = to;
+            let dwell = (rng.log_range(0.05, 3.0) / DT) as usize;
+            xr.extend(std::iter::repeat(x).take(dwell));
+        } else {
+            // a sinusoid with reversals, its amplitude rising and falling over one period
+            let amp = rng.log_range(1e-3, 20e-3).min(half * 0.5);
+            let omega = rng.log_range(2e-3, 0.12) / amp;
+            let period = std::f64::consts::TAU / omega;
+            let cycles = rng.range(2.0, 6.0).round();
+            let centre = x.clamp(-half + amp, half - amp);
+            if (centre - x).abs() > 1e-9 {
+                push_move(&mut xr, x, centre, 0.05, 1.0);
+            }
+            let total = cycles * period;
+            let steps = (total / DT) as usize;
+            for k in 1..=steps {
+                let t = k as f64 * DT;
+                let w = if t < period {
+                    0.5 * (1.0 - (std::f64::consts::PI * t / period).cos())
+                } else if t > total - period {
+                    0.5 * (1.0 - (std::f64::consts::PI * (total - t) / period).cos())
+                } else {
+                    1.0
+                };
+                xr.push(centre + amp * w * (omega * t).sin());
+            }
+            x = centre;
+            xr.push(x);
+        }
+    }
+    xr.truncate(n);
+    let mut vr = vec![0.0; n];
+    let mut ar = vec![0.0; n];
+    for i in 1..n - 1 {
+        vr[i] = (xr[i + 1] - xr[i - 1]) / (2.0 * DT);
+    }
+    for i in 1..n - 1 {
+        ar[i] = (vr[i + 1] - vr[i - 1]) / (2.0 * DT);
+    }
+    (xr, vr, ar)
+}
+
+/// Signed square root, regularised below 1 bar (laminar flow at small pressure drops).
+fn sqrt_flow(dp: f64) -> f64 {
+    dp / (dp * dp + 1e10).sqrt().sqrt()
+}
+
+/// Simulates the axis and returns the record as CSV text (t, x, force, x_ref, and p_a, p_b
+/// for the hydraulic axis, temp when it has a thermometer).
+pub fn record(axis: &Axis, seed: u64) -> String {
+    let mut rng = Rng::new(seed);
+    let (xr, vr, ar) = schedule(axis, &mut rng);
+    let n = xr.len();
+    let h = DT / SUB as f64;
+    let m = axis.mass_kg;
+    let omega = std::f64::consts::TAU * axis.loop_hz;
+    // force actuator: PID; full scale for the 0.2 % noise
+    let (kp, kd, ki) = (
+        m * omega * omega,
+        1.4 * m * omega,
+        m * omega * omega * omega / 10.0,
+    );
+    let full_scale = 2.0 * axis.static_n + m * 3.0;
+    // hydraulic: areas, valve sized for 0.25 m/s, 0.2 L dead volumes
+    let (aa, ab) = (axis.area_m2, axis.area_m2 * axis.area_ratio);
+    let beta = 1.4e9;
+    // dead volume: 5 cm of bore on each side
+    let v0 = 0.05 * aa;
+    let q_max = aa * 0.25;
+    // loop gain [1/s]: a quarter of the hydraulic natural frequency at mid stroke, at most 40
+    let omega_h = (beta * aa / ((0.05 + 0.5 * axis.stroke_m) * m)).sqrt();
+    let k_loop = (0.25 * omega_h).min(40.0);
+    let kv = q_max / (50e5f64).sqrt();
+    let leak = 2e-13;
+    let mut supply = 160e5;
+    let mut next_supply_change = rng.range(8.0, 20.0);
+    // the chambers balanced at rest: pa aa = pb ab
+    let mut pb = 0.5 * supply;
+    let mut pa = pb * ab / aa;
+    let mut spool = 0.0;
+    let (mut x, mut v, mut z) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut stuck, mut dwell) = (0.0, 0.0);
+    let mut integral = 0.0;
+    let mut x_prev_meas = 0.0;
+    let mut v_est = 0.0;
+    let mut out = String::with_capacity(n * 60);
+    let hyd = axis.actuator == Actuator::Hydraulic;
+    let temp_col = axis.temperature.is_some();
+    out.push_str(&format!(
+        "# generator=independent servo axis ({})\n# hidden={}\n",
+        if hyd {
+            "hydraulic cylinder"
+        } else {
+            "ideal force actuator"
+        },
+        axis.effect.unwrap_or("none")
+    ));
+    out.push_str("t,x,force,x_ref");
+    if hyd {
+        out.push_str(",p_a,p_b");
+    }
+    if temp_col {
+        out.push_str(",temp");
+    }
+    out.push('\n');
+    let mut force_cmd = 0.0;
+    let mut u_cmd = 0.0;
+    for i in 0..n {
+        let t = i as f64 * DT;
+        // sample the sensors
+        let xq = (x / 1e-6).round() * 1e-6;
+        let (pa_m, pb_m) = (pa + 5e3 * rng.normal(), pb + 5e3 * rng.normal());
+        let f_meas = if hyd {
+            aa * pa_m - ab * pb_m
+        } else {
+            force_cmd + 0.002 * full_scale * rng.normal()
+        };
+        let temp = axis.temperature_at(t);
+        let mut line = format!("{t:.3},{xq:.7},{f_meas:.4},{:.7}", xr[i]);
+        if hyd {
+            line.push_str(&format!(",{pa_m:.1},{pb_m:.1}"));
+        }
+        if temp_col {
+            line.push_str(&format!(",{:.3}", temp + 0.05 * rng.normal()));
+        }
+        line.push('\n');
+        out.push_str(&line);
+        // the controller, from the measurements
+        let e = xr[i] - xq;
+        v_est += 0.3 * ((xq - x_prev_meas) / DT - v_est);
+        x_prev_meas = xq;
+        if hyd {
+            let v_full = q_max / aa;
+            u_cmd = ((vr[i] + k_loop * e) / v_full).clamp(-1.0, 1.0);
+        } else {
+            integral = (integral + e * DT).clamp(-1e3, 1e3);
+            force_cmd = m * ar[i] + kp * e + kd * (vr[i] - v_est) + ki * integral;
+        }
+        if hyd && t >= next_supply_change {
+            supply = rng.range(100e5, 210e5);
+            next_supply_change += rng.range(8.0, 20.0);
+        }
+        // the plant, in sub-steps
+        for _ in 0..SUB {
+            let actuator = if hyd {
+                spool += h / 3e-3 * (u_cmd - spool);
+                let (qa, qb) = if spool >= 0.0 {
+                    (
+                        kv * spool * sqrt_flow(supply - pa),
+                        -kv * spool * sqrt_flow(pb),
+                    )
+                } else {
+                    (
+                        kv * spool * sqrt_flow(pa),
+                        -kv * spool * sqrt_flow(supply - pb),
+                    )
+                };
+                let ql = leak * (pa - pb);
+                let va = v0 + aa * (x + 0.5 * axis.stroke_m);
+                let vb = v0 + ab * (0.5 * axis.stroke_m - x);
+                pa = (pa + h * beta / va * (qa - aa * v - ql)).clamp(1e4, 400e5);
+                pb = (pb + h * beta / vb * (qb + ab * v + ql)).clamp(1e4, 400e5);
+                aa * pa - ab * pb
+            } else {
+                force_cmd
+            };
+            clock(v, h, &mut stuck, &mut dwell);
+            let friction = axis.friction_step(&mut z, v, x, pa + pb, temp, dwell, h);
+            v += h * (actuator - friction) / m;
+            x += h * v;
+        }
+    }
+    out
+}
+
+/// A record (CSV text) and its axis for `effect` (None: effect-free), seeded.
+pub fn random_record(effect: Option<&'static str>, seed: u64) -> (String, Axis) {
+    let axis = Axis::random(effect, seed);
+    let text = record(&axis, seed.wrapping_mul(7919).wrapping_add(3));
+    (text, axis)
+}
