@@ -54,7 +54,7 @@ pub struct AxisSection {
 
 /// `[effects]`: the extra effects, each a table with its parameters (see the core's
 /// `friction::effects` for the equations).
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 #[allow(missing_docs)]
 pub struct EffectsSection {
@@ -96,11 +96,17 @@ mod tables {
         pub coefficient_n_per_pa: f64,
         pub reference_pressure_sum_pa: f64,
     }
-    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
     #[serde(deny_unknown_fields)]
     pub struct PositionT {
         pub gradient_n_per_m: f64,
         pub center_m: f64,
+        /// half the stroke the cosine terms span (absent: no cosine terms)
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub half_span_m: Option<f64>,
+        /// the cosine terms c_1.. [N] (at most 4)
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        pub cosine_n: Vec<f64>,
     }
     #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
     #[serde(deny_unknown_fields)]
@@ -198,6 +204,8 @@ impl ParamFile {
                 position_dependence: e.position_dependence.map(|x| PositionT {
                     gradient_n_per_m: x.gradient,
                     center_m: x.center,
+                    half_span_m: (x.terms > 0).then_some(x.half_span),
+                    cosine_n: x.cosine[..x.terms.min(x.cosine.len())].to_vec(),
                 }),
                 temperature_dependence: e.temperature_dependence.map(|t| TemperatureT {
                     viscous_per_kelvin: t.viscous_per_kelvin,
@@ -279,12 +287,25 @@ impl ParamFile {
                 reference_pressure_sum: l.reference_pressure_sum_pa,
             });
         }
-        if let Some(x) = e.position_dependence {
+        if let Some(x) = &e.position_dependence {
             finite("position_dependence", &[x.gradient_n_per_m, x.center_m])?;
-            effects.position_dependence = Some(fx::PositionDependence {
-                gradient: x.gradient_n_per_m,
-                center: x.center_m,
-            });
+            finite("position_dependence", &x.cosine_n)?;
+            let mut pd = fx::PositionDependence::linear(x.gradient_n_per_m, x.center_m);
+            if !x.cosine_n.is_empty() {
+                if x.cosine_n.len() > fx::POSITION_TERMS {
+                    return Err(format!(
+                        "[effects.position_dependence] cosine_n: at most {} terms, got {}",
+                        fx::POSITION_TERMS,
+                        x.cosine_n.len()
+                    ));
+                }
+                let span = x.half_span_m.unwrap_or(f64::NAN);
+                positive("position_dependence", "half_span_m", span)?;
+                pd.half_span = span;
+                pd.terms = x.cosine_n.len();
+                pd.cosine[..pd.terms].copy_from_slice(&x.cosine_n);
+            }
+            effects.position_dependence = Some(pd);
         }
         if let Some(t) = e.temperature_dependence {
             finite(

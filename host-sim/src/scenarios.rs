@@ -25,10 +25,7 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> Result<(
             })
         }
         "position_dependence" => {
-            e.position_dependence = Some(fx::PositionDependence {
-                gradient: 1000.0 * s,
-                center: 0.25,
-            })
+            e.position_dependence = Some(fx::PositionDependence::linear(1000.0 * s, 0.25))
         }
         "temperature_dependence" => {
             e.temperature_dependence = Some(fx::TemperatureDependence {

@@ -16,6 +16,8 @@ struct Outcome {
     base: f64,
     added: f64,
     floor: f64,
+    /// Some other effect than the first candidate was called significant.
+    other_significant: bool,
 }
 
 fn run(effect: Option<&str>, strength: f64, seed: u64) -> Outcome {
@@ -41,6 +43,7 @@ fn run(effect: Option<&str>, strength: f64, seed: u64) -> Outcome {
         base: d.stages[0].fit.rel_err_pct,
         added: d.stages[d.stages.len() - 1].fit.rel_err_pct,
         floor: d.noise_floor_pct.unwrap(),
+        other_significant: d.stages[0].candidates.iter().skip(1).any(|c| c.significant),
     };
     println!(
         "{:<23} strength {strength} seed {seed}: first {} ({}), {:.2} % -> {:.2} %, floor {:.2} %",
@@ -67,10 +70,22 @@ fn check(effect: &str) {
                 "seed {seed} strength {strength}: ranked {} first",
                 o.first
             );
-            assert!(
-                o.significant,
-                "seed {seed} strength {strength}: {effect} not significant"
-            );
+            // An effect is visible when the plain model cannot come within 1.2x the noise floor
+            // (the issue's yardstick). A visible effect must be called significant; one that
+            // leaves the baseline at the floor (stribeck_shape x0.4 on Table 2: 0.38 % against
+            // 0.38 %) is below what the calibrated rule reports, and must not be replaced by
+            // another effect.
+            if o.base > 1.2 * o.floor {
+                assert!(
+                    o.significant,
+                    "seed {seed} strength {strength}: visible {effect} not significant"
+                );
+            } else {
+                assert!(
+                    o.significant || !o.other_significant,
+                    "seed {seed} strength {strength}: another effect called significant"
+                );
+            }
             if strength >= 1.0 {
                 if o.base >= 2.0 * o.floor {
                     assert!(
@@ -133,11 +148,9 @@ fn finds_dwell_stiction() {
     check("dwell_stiction");
 }
 
-// Known failure since the bounded whole-model baseline (session 3): on seed 2 the baseline sits at
-// 0.34 % (noise floor 0.37 %) and `stribeck_shape` at exponent 1.92 passes with dBIC 14.9 on
-// N_eff 1900: the significance rule is not calibrated (issue 9). Run with --ignored to see it.
+// Seed 2 was a known false positive (stribeck_shape at dBIC 14.9) until the significance rule was
+// calibrated on effect-free independent records (diagnose::MIN_ERROR_CUT).
 #[test]
-#[ignore = "known false positive on seed 2 until the significance rule is calibrated (issue 9)"]
 fn invents_nothing_without_an_extra_effect() {
     for seed in [1, 2, 3] {
         let mut cfg = PlantConfig::default();

@@ -10,7 +10,7 @@
 //! | `asymmetry` | `Fc, Fs -> (1 ± rc) Fc, (1 ± rc) Fs`, `sigma2 -> (1 ± rv) sigma2`, `+` for v >= 0 |
 //! | `offset` | `F += F0` (constant external force, e.g. gravity on an inclined axis) |
 //! | `load_dependence` | `Fc, Fs += k (p_a + p_b - p_ref)` (seal preload + pressure-energised seal) |
-//! | `position_dependence` | `Fc, Fs += k_x (x - x_c)` (friction varying along the stroke) |
+//! | `position_dependence` | `Fc, Fs += k_x (x - x_c) + sum_j c_j cos(j pi u)`, `u = (x - x_c) / 2L + 1/2` in [0, 1] (friction varying along the stroke) |
 //! | `temperature_dependence` | `sigma2 -> sigma2 exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs` |
 //! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
 //! | `viscous_power` | `F_visc = sigma2 v_r sign(v) |v / v_r|^delta` (equals `sigma2 v` at `v = v_r`) |
@@ -43,13 +43,76 @@ pub struct LoadDependence<T> {
     pub reference_pressure_sum: T,
 }
 
-/// Friction that varies along the stroke.
+/// Most cosine terms a position dependence carries.
+pub const POSITION_TERMS: usize = 4;
+
+/// Friction that varies along the stroke: a gradient plus a smooth shape,
+///
+/// ```text
+/// dF(x) = k_x (x - x_c) + sum_{j=1..n} c_j cos(j pi u),   u = clamp((x - x_c) / (2 L) + 1/2, 0, 1)
+/// ```
+///
+/// a cosine series over the stroke `x_c - L .. x_c + L` (no periodicity assumed: the half-range
+/// cosine basis represents any smooth function of the position there, a local wear spot, a
+/// ripple, a bent rod). `n = 0` is the plain linear gradient.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PositionDependence<T> {
     /// `k_x` [N/m].
     pub gradient: T,
-    /// `x_c` [m]: the position at which the base Fc, Fs hold.
+    /// `x_c` [m]: the position at which the base Fc, Fs hold (without cosine terms).
     pub center: T,
+    /// `L` [m] > 0: half the stroke the cosine series spans.
+    pub half_span: T,
+    /// `c_j` [N]: the cosine terms; only the first `terms` are used.
+    pub cosine: [T; POSITION_TERMS],
+    /// `n`: number of cosine terms in use (0..=[`POSITION_TERMS`]).
+    pub terms: usize,
+}
+
+impl<T: Float> PositionDependence<T> {
+    /// A linear gradient `k_x (x - x_c)` only.
+    pub fn linear(gradient: T, center: T) -> Self {
+        Self {
+            gradient,
+            center,
+            half_span: T::one(),
+            cosine: [T::zero(); POSITION_TERMS],
+            terms: 0,
+        }
+    }
+
+    /// The cosine basis at position `x`: `cos(j pi u)` for `j = 1..=POSITION_TERMS`
+    /// (Chebyshev recurrence: one cosine evaluation).
+    pub fn basis(&self, x: T) -> [T; POSITION_TERMS] {
+        let two = T::one() + T::one();
+        let half = T::one() / two;
+        let span = self.half_span.max(T::min_positive_value());
+        let u = ((x - self.center) / (two * span) + half)
+            .max(T::zero())
+            .min(T::one());
+        let c1 = (T::from(core::f64::consts::PI).unwrap_or_else(T::one) * u).cos();
+        let mut out = [T::zero(); POSITION_TERMS];
+        let (mut prev, mut cur) = (T::one(), c1);
+        for o in out.iter_mut() {
+            *o = cur;
+            let next = two * c1 * cur - prev;
+            prev = cur;
+            cur = next;
+        }
+        out
+    }
+
+    /// The level shift `dF(x)` [N].
+    pub fn shift(&self, x: T) -> T {
+        let mut d = self.gradient * (x - self.center);
+        if self.terms > 0 {
+            let b = self.basis(x);
+            for (c, q) in self.cosine.iter().zip(b.iter()).take(self.terms) {
+                d = d + *c * *q;
+            }
+        }
+        d
+    }
 }
 
 /// Friction that changes with oil temperature.

@@ -69,7 +69,7 @@ impl<T: Float> FrictionModel<T> {
             shift = shift + l.coefficient * (c.pressure_sum - l.reference_pressure_sum);
         }
         if let Some(x) = e.position_dependence {
-            shift = shift + x.gradient * (c.position - x.center);
+            shift = shift + x.shift(c.position);
         }
         coulomb = coulomb + shift;
         static_ = static_ + shift;
@@ -277,16 +277,40 @@ mod tests {
     #[test]
     fn position_dependence_is_linear_along_the_stroke() {
         let mut m = base();
-        m.effects.position_dependence = Some(PositionDependence {
-            gradient: 1000.0,
-            center: 0.2,
-        });
+        m.effects.position_dependence = Some(PositionDependence::linear(1000.0, 0.2));
         let at = |x| {
             m.levels(0.01, &Conditions { position: x, ..REF }, 0.0)
                 .coulomb
         };
         assert!((at(0.3) - 606.0).abs() < 1e-9);
         assert!((at(0.1) - 406.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn position_dependence_cosine_terms_follow_their_formula() {
+        let mut m = base();
+        let mut pd = PositionDependence::linear(0.0, 0.2);
+        pd.half_span = 0.1;
+        pd.cosine = [20.0, -10.0, 5.0, 7.0];
+        pd.terms = 3; // the fourth term is ignored
+        m.effects.position_dependence = Some(pd);
+        let at = |x| {
+            m.levels(0.01, &Conditions { position: x, ..REF }, 0.0)
+                .coulomb
+        };
+        for x in [0.1, 0.13, 0.2, 0.27, 0.3] {
+            let u: f64 = (x - 0.2) / 0.2 + 0.5;
+            let pi = core::f64::consts::PI;
+            let expect = 506.0 + 20.0 * (pi * u).cos() - 10.0 * (2.0 * pi * u).cos()
+                + 5.0 * (3.0 * pi * u).cos();
+            assert!(
+                (at(x) - expect).abs() < 1e-9,
+                "x {x}: {} vs {expect}",
+                at(x)
+            );
+        }
+        // beyond the span the shape holds its end value
+        assert!((at(0.5) - at(0.3)).abs() < 1e-9);
     }
 
     #[test]

@@ -48,6 +48,8 @@ pub enum Param {
     LoadCoefficient,
     /// position_dependence k_x [N/m].
     PositionGradient,
+    /// position_dependence c_j [N], j = 1.. (the index is j - 1).
+    PositionCosine(usize),
     /// temperature_dependence k_c [1/K].
     TempCoulomb,
     /// dwell_stiction dF [N].
@@ -68,6 +70,10 @@ impl Param {
             Param::Offset => "force_n",
             Param::LoadCoefficient => "coefficient_n_per_pa",
             Param::PositionGradient => "gradient_n_per_m",
+            Param::PositionCosine(j) => ["cosine_1_n", "cosine_2_n", "cosine_3_n", "cosine_4_n"]
+                .get(j)
+                .copied()
+                .unwrap_or("cosine_n"),
             Param::TempCoulomb => "coulomb_per_kelvin",
             Param::DwellIncrease => "max_increase_n",
         }
@@ -307,6 +313,10 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
         Param::Offset => e.offset.map_or(0.0, |o| o.force),
         Param::LoadCoefficient => e.load_dependence.map_or(0.0, |l| l.coefficient),
         Param::PositionGradient => e.position_dependence.map_or(0.0, |x| x.gradient),
+        Param::PositionCosine(j) => e
+            .position_dependence
+            .and_then(|x| x.cosine.get(j).copied())
+            .unwrap_or(0.0),
         Param::TempCoulomb => e
             .temperature_dependence
             .map_or(0.0, |t| t.coulomb_per_kelvin),
@@ -439,8 +449,9 @@ fn linear_step(
     if e.load_dependence.is_some() {
         params.push(Param::LoadCoefficient);
     }
-    if e.position_dependence.is_some() {
+    if let Some(pd) = e.position_dependence {
         params.push(Param::PositionGradient);
+        params.extend((0..pd.terms.min(fx::POSITION_TERMS)).map(Param::PositionCosine));
     }
     if e.temperature_dependence.is_some() {
         params.push(Param::TempCoulomb);
@@ -474,8 +485,12 @@ fn linear_step(
             .load_dependence
             .map_or(0.0, |l| c.pressure_sum - l.reference_pressure_sum);
         let pos_x = e.position_dependence.map_or(0.0, |x| c.position - x.center);
+        let pos_basis = e
+            .position_dependence
+            .filter(|x| x.terms > 0)
+            .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
         let shift = e.load_dependence.map_or(0.0, |l| l.coefficient * load_x)
-            + e.position_dependence.map_or(0.0, |x| x.gradient * pos_x);
+            + e.position_dependence.map_or(0.0, |x| x.shift(c.position));
         // the viscous force is taken at the sample instant (see FrictionModel::step_split)
         let v_now = p.v[i];
         let d_now = if v_now >= 0.0 { 1.0 } else { -1.0 };
@@ -504,6 +519,7 @@ fn linear_step(
                 Param::Offset => 1.0,
                 Param::LoadCoefficient => tau_c * load_x * s,
                 Param::PositionGradient => tau_c * pos_x * s,
+                Param::PositionCosine(j) => tau_c * pos_basis[*j] * s,
                 Param::TempCoulomb => d_t * (1.0 + d * rc) * (level + shift) * s,
                 Param::DwellIncrease => w * ex * s,
             };
@@ -734,6 +750,9 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
     }
     if let Some(x) = effects.position_dependence.as_mut() {
         x.gradient = get(Param::PositionGradient).unwrap_or(0.0);
+        for j in 0..x.terms.min(fx::POSITION_TERMS) {
+            x.cosine[j] = get(Param::PositionCosine(j)).unwrap_or(0.0);
+        }
     }
     if let Some(t) = effects.temperature_dependence.as_mut() {
         t.coulomb_per_kelvin = get(Param::TempCoulomb).unwrap_or(0.0);
@@ -843,10 +862,11 @@ pub fn add_effect(m: &AxisModel, effect: &str, p: &Prepared, nonlinear: f64) -> 
         "position_dependence" => {
             let lo = p.x.iter().cloned().fold(f64::INFINITY, f64::min);
             let hi = p.x.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-            e.position_dependence = Some(fx::PositionDependence {
-                gradient: 0.0,
-                center: 0.5 * (lo + hi),
-            })
+            // `nonlinear`: the number of cosine terms over the visited stroke
+            let mut pd = fx::PositionDependence::linear(0.0, 0.5 * (lo + hi));
+            pd.half_span = (0.5 * (hi - lo)).max(1e-6);
+            pd.terms = (nonlinear.round().max(0.0) as usize).min(fx::POSITION_TERMS);
+            e.position_dependence = Some(pd);
         }
         "temperature_dependence" => {
             let r = p

@@ -489,7 +489,7 @@ fn schedule(axis: &Axis, rng: &mut Rng) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
             push_move(&mut xr, x, to, speed, accel);
             x = to;
             let dwell = (rng.log_range(0.05, 3.0) / DT) as usize;
-            xr.extend(std::iter::repeat(x).take(dwell));
+            xr.extend(std::iter::repeat_n(x, dwell));
         } else {
             // a sinusoid with reversals, its amplitude rising and falling over one period
             let amp = rng.log_range(1e-3, 20e-3).min(half * 0.5);
@@ -535,8 +535,11 @@ fn sqrt_flow(dp: f64) -> f64 {
 }
 
 /// Simulates the axis and returns the record as CSV text (t, x, force, x_ref, and p_a, p_b
-/// for the hydraulic axis, temp when it has a thermometer).
-pub fn record(axis: &Axis, seed: u64) -> String {
+/// for the hydraulic axis, temp when it has a thermometer) and the hidden effect's visibility:
+/// along the true motion, where the axis moves (|v| >= 0.2 mm/s), the rms of the effect's force
+/// (friction with it minus friction without it) after removing what a Coulomb and a viscous
+/// level could absorb (least squares on sign(v) and v), over the rms of the measured force.
+pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
     let mut rng = Rng::new(seed);
     let (xr, vr, ar) = schedule(axis, &mut rng);
     let n = xr.len();
@@ -594,6 +597,13 @@ pub fn record(axis: &Axis, seed: u64) -> String {
     out.push('\n');
     let mut force_cmd = 0.0;
     let mut u_cmd = 0.0;
+    let plain = Axis {
+        shape: Shape::None,
+        ..axis.clone()
+    };
+    let (mut z_plain, mut effect_force) = (0.0, 0.0);
+    // (sign v, v, effect force, measured force) where the axis moves
+    let mut seen: Vec<[f64; 4]> = Vec::with_capacity(n);
     for i in 0..n {
         let t = i as f64 * DT;
         // sample the sensors
@@ -614,6 +624,9 @@ pub fn record(axis: &Axis, seed: u64) -> String {
         }
         line.push('\n');
         out.push_str(&line);
+        if v.abs() >= 2e-4 {
+            seen.push([v.signum(), v, effect_force, f_meas]);
+        }
         // the controller, from the measurements
         let e = xr[i] - xq;
         v_est += 0.3 * ((xq - x_prev_meas) / DT - v_est);
@@ -655,16 +668,56 @@ pub fn record(axis: &Axis, seed: u64) -> String {
             };
             clock(v, h, &mut stuck, &mut dwell);
             let friction = axis.friction_step(&mut z, v, x, pa + pb, temp, dwell, h);
+            effect_force =
+                friction - plain.friction_step(&mut z_plain, v, x, pa + pb, temp, dwell, h);
             v += h * (actuator - friction) / m;
             x += h * v;
         }
     }
-    out
+    (out, visibility(&seen))
 }
 
-/// A record (CSV text) and its axis for `effect` (None: effect-free), seeded.
+/// The part of the effect's force that sign(v) and v cannot absorb, rms, over the force rms.
+fn visibility(seen: &[[f64; 4]]) -> f64 {
+    let (mut a11, mut a12, mut a22, mut b1, mut b2, mut ff) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    for [s, v, d, f] in seen {
+        a11 += s * s;
+        a12 += s * v;
+        a22 += v * v;
+        b1 += s * d;
+        b2 += v * d;
+        ff += f * f;
+    }
+    let det = a11 * a22 - a12 * a12;
+    let (c1, c2) = if det.abs() > 1e-300 {
+        ((a22 * b1 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det)
+    } else {
+        (0.0, 0.0)
+    };
+    let rr: f64 = seen
+        .iter()
+        .map(|[s, v, d, _]| (d - c1 * s - c2 * v).powi(2))
+        .sum();
+    (rr / ff.max(1e-300)).sqrt()
+}
+
+/// Smallest visibility of a hidden effect (see [`record`]): a drawn effect that leaves less
+/// than this in the force where the axis moves is drawn again (up to 20 times), because no
+/// method can find an effect the record does not show.
+pub const MIN_VISIBILITY: f64 = 0.03;
+
+/// A record (CSV text) and its axis for `effect` (None: effect-free), seeded. An effect whose
+/// visibility is below [`MIN_VISIBILITY`] is drawn again (new axis, new excitation).
 pub fn random_record(effect: Option<&'static str>, seed: u64) -> (String, Axis) {
-    let axis = Axis::random(effect, seed);
-    let text = record(&axis, seed.wrapping_mul(7919).wrapping_add(3));
-    (text, axis)
+    let mut last = None;
+    for attempt in 0..20u64 {
+        let s = seed.wrapping_add(attempt.wrapping_mul(1_000_003));
+        let axis = Axis::random(effect, s);
+        let (text, vis) = record(&axis, s.wrapping_mul(7919).wrapping_add(3));
+        if effect.is_none() || vis >= MIN_VISIBILITY {
+            return (text, axis);
+        }
+        last = Some((text, axis));
+    }
+    last.expect("at least one attempt")
 }

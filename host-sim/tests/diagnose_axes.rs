@@ -1,0 +1,154 @@
+//! The diagnosis on axes it was never tuned on: records from the independent axis generator
+//! (`generators/axis.rs`: its own LuGre code, actuators, sensors and effect shapes). A few
+//! records each; the whole benchmark is `cargo run --release -p host-sim --example axis_suite`.
+
+mod generators;
+
+use generators::axis::{random_record, Axis};
+use host_sim::diagnose::{self, Diagnosis, Options};
+use host_sim::params_file::ParamFile;
+use host_sim::record::Record;
+use std::path::Path;
+
+fn diagnose(effect: Option<&'static str>, seed: u64, add: &[&str]) -> (Diagnosis, Axis) {
+    let (text, axis) = random_record(effect, seed);
+    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+    let opts = Options {
+        add: add.iter().map(|s| s.to_string()).collect(),
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    (diagnose::diagnose(&rec, "axis.csv", &opts).unwrap(), axis)
+}
+
+fn report(d: &Diagnosis) -> String {
+    d.stages[0]
+        .candidates
+        .iter()
+        .take(3)
+        .map(|c| {
+            format!(
+                "{} {:.2} % dBIC {:.1} {}",
+                c.effect,
+                c.rel_err_pct.unwrap_or(f64::NAN),
+                c.delta_bic.unwrap_or(f64::NAN),
+                if c.significant { "significant" } else { "-" }
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// Effect-free records (a hydraulic and a force-actuated axis from the calibration seeds): the
+/// plain model is structurally right, so no candidate may be called significant.
+#[test]
+fn no_effect_is_claimed_on_effect_free_axes() {
+    for seed in [103, 124] {
+        let (d, axis) = diagnose(None, seed, &[]);
+        println!("seed {seed} ({:?}): {}", axis.actuator, report(&d));
+        assert!(
+            d.stages[0].candidates.iter().all(|c| !c.significant),
+            "seed {seed}: {}",
+            report(&d)
+        );
+    }
+}
+
+/// A strong direction dependence on an axis whose baseline has no viscous friction: the
+/// asymmetry's viscous-ratio regressor is all zero there, which once turned the normal
+/// equations into NaN and froze every asymmetry fit at its start.
+#[test]
+fn asymmetry_is_found_where_the_baseline_has_no_viscous_term() {
+    let (d, _) = diagnose(Some("asymmetry"), 1000, &[]);
+    let first = &d.stages[0].candidates[0];
+    println!("{}", report(&d));
+    assert_eq!(first.effect, "asymmetry", "{}", report(&d));
+    assert!(first.significant);
+    assert!(
+        first.rel_err_pct.unwrap() < 0.3 * d.stages[0].fit.rel_err_pct,
+        "{}",
+        report(&d)
+    );
+}
+
+/// Friction that ripples along the stroke (not a linear gradient): the cosine terms of the
+/// position dependence follow it, their number chosen by the data, and the written parameter
+/// file carries them back unchanged.
+#[test]
+fn a_periodic_position_dependence_is_found_and_its_shape_kept() {
+    let (d, _) = diagnose(Some("position_dependence"), 1301, &["position_dependence"]);
+    println!("{}", report(&d));
+    let first = &d.stages[0].candidates[0];
+    assert_eq!(first.effect, "position_dependence", "{}", report(&d));
+    assert!(first.significant);
+    let base = d.stages[0].fit.rel_err_pct;
+    let added = d.stages[1].fit.rel_err_pct;
+    assert!(added < 0.25 * base, "{base:.2} % -> {added:.2} %");
+    let pd = d.model().friction.effects.position_dependence.unwrap();
+    assert!(pd.terms >= 1, "a linear gradient cannot follow a ripple");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.toml");
+    let file = diagnose::parameter_file(&d, Some(200.0)).unwrap();
+    file.write_checked(&path).unwrap();
+    let (_, back) = ParamFile::read(&path).unwrap();
+    let q = back.effects.position_dependence.unwrap();
+    assert_eq!(q.terms, pd.terms);
+    for x in [-0.1, 0.0, 0.03, 0.1] {
+        assert!((q.shift(x) - pd.shift(x)).abs() < 1e-6 * (1.0 + pd.shift(x).abs()));
+    }
+}
+
+/// The generator's own check: its true model driven by the measured motion through the
+/// diagnosis pipeline (the noise floor) scores far better than the fitted baseline when a
+/// strong effect is hidden, and the visibility rule keeps the drawn effect visible.
+#[test]
+fn the_generator_truth_explains_its_record() {
+    let (d, axis) = diagnose(Some("offset"), 1102, &[]);
+    let p = &d.prepared;
+    let friction = axis.friction_along(
+        &p.t,
+        &p.x,
+        &p.v_step,
+        p.pressure_sum.as_deref(),
+        p.temperature.as_deref(),
+        &p.segments,
+        p.dt,
+    );
+    let force: Vec<f64> =
+        p.a.iter()
+            .zip(&friction)
+            .map(|(a, f)| axis.mass_kg * a + f)
+            .collect();
+    let floor = p.rel_err_pct(&force);
+    let base = d.stages[0].fit.rel_err_pct;
+    println!("floor {floor:.2} %, baseline {base:.2} %");
+    assert!(floor < 3.0, "{floor}");
+    assert!(base > 3.0 * floor, "{base} vs {floor}");
+}
+
+#[test]
+fn a_parameter_file_refuses_a_bad_position_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = "[lugre]\nbristle_stiffness_n_per_m = 3.9e9\nbristle_damping_n_s_per_m = 200.0\nviscous_coefficient_n_s_per_m = 48900.0\ncoulomb_force_n = 506.0\nstatic_force_n = 632.0\nstribeck_velocity_m_per_s = 0.005\n\n[axis]\nmoving_mass_kg = 200.0\n\n[effects.position_dependence]\ngradient_n_per_m = 10.0\ncenter_m = 0.0\n";
+    for (extra, why) in [
+        ("cosine_n = [1.0, 2.0]\n", "half_span_m"),
+        ("half_span_m = 0.0\ncosine_n = [1.0]\n", "half_span_m"),
+        (
+            "half_span_m = 0.1\ncosine_n = [1.0, 2.0, 3.0, 4.0, 5.0]\n",
+            "at most 4",
+        ),
+    ] {
+        let path = dir.path().join("bad.toml");
+        std::fs::write(&path, format!("{base}{extra}")).unwrap();
+        let e = ParamFile::read(&path).unwrap_err();
+        assert!(e.contains(why), "{extra}: {e}");
+    }
+    let path = dir.path().join("good.toml");
+    std::fs::write(
+        &path,
+        format!("{base}half_span_m = 0.1\ncosine_n = [1.0, -2.0]\n"),
+    )
+    .unwrap();
+    let (_, m) = ParamFile::read(&path).unwrap();
+    assert_eq!(m.effects.position_dependence.unwrap().terms, 2);
+}
