@@ -8,26 +8,28 @@ use lugre_servo::friction::effects as fx;
 
 /// Switches effect `name` on in `cfg`; `strength` 1.0 is clearly visible, 0.3 subtle.
 pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> Result<(), String> {
+    use lugre_servo::friction::EffectKind as K;
+    let kind = crate::diagnose::parse_effect(name)?;
     let e = &mut cfg.friction.effects;
     let s = strength;
-    match name {
-        "asymmetry" => {
+    match kind {
+        K::Asymmetry => {
             e.asymmetry = Some(fx::Asymmetry {
                 coulomb_ratio: 0.15 * s,
                 viscous_ratio: 0.25 * s,
             })
         }
-        "offset" => e.offset = Some(fx::Offset { force: 150.0 * s }),
-        "load_dependence" => {
+        K::Offset => e.offset = Some(fx::Offset { force: 150.0 * s }),
+        K::LoadDependence => {
             e.load_dependence = Some(fx::LoadDependence {
                 coefficient: 4e-5 * s,
                 reference_pressure_sum: cfg.valve.supply_pressure_pa,
             })
         }
-        "position_dependence" => {
+        K::PositionDependence => {
             e.position_dependence = Some(fx::PositionDependence::linear(1000.0 * s, 0.25))
         }
-        "temperature_dependence" => {
+        K::TemperatureDependence => {
             e.temperature_dependence = Some(fx::TemperatureDependence {
                 viscous_per_kelvin: 0.02 * s,
                 coulomb_per_kelvin: 0.01 * s,
@@ -37,30 +39,24 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> Result<(
             cfg.thermal.heat_capacity_j_per_k = 4_000.0;
             cfg.thermal.extra_heat_w = 1_200.0;
         }
-        "stribeck_shape" => {
+        K::StribeckShape => {
             e.stribeck_shape = Some(fx::StribeckShape {
                 // strong: 0.5 (a sharp fall from breakaway), subtle (0.4): 1.4
                 exponent: 2.0 - 1.5 * s,
             })
         }
-        "viscous_power" => {
+        K::ViscousPower => {
             e.viscous_power = Some(fx::ViscousPower {
                 exponent: 1.0 - 0.4 * s,
                 reference_velocity: 0.02,
             })
         }
-        "dwell_stiction" => {
+        K::DwellStiction => {
             e.dwell_stiction = Some(fx::DwellStiction {
                 max_increase: 300.0 * s,
                 time_constant: 1.0,
                 stick_velocity: 2e-4,
             })
-        }
-        other => {
-            return Err(format!(
-                "unknown effect '{other}'; known: {}",
-                lugre_servo::friction::EFFECT_NAMES.join(", ")
-            ))
         }
     }
     Ok(())

@@ -174,17 +174,98 @@ pub struct Effects<T> {
     pub dwell_stiction: Option<DwellStiction<T>>,
 }
 
-/// The names of the effects, as the simulator switches, the diagnosis and the files spell them.
-pub const EFFECT_NAMES: [&str; 8] = [
-    "asymmetry",
-    "offset",
-    "load_dependence",
-    "position_dependence",
-    "temperature_dependence",
-    "stribeck_shape",
-    "viscous_power",
-    "dwell_stiction",
-];
+/// The eight extra effects, by kind: the one vocabulary the simulator's switches, the
+/// diagnosis, the parameter files and the command line share.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum EffectKind {
+    /// [`Asymmetry`].
+    Asymmetry,
+    /// [`Offset`].
+    Offset,
+    /// [`LoadDependence`].
+    LoadDependence,
+    /// [`PositionDependence`].
+    PositionDependence,
+    /// [`TemperatureDependence`].
+    TemperatureDependence,
+    /// [`StribeckShape`].
+    StribeckShape,
+    /// [`ViscousPower`].
+    ViscousPower,
+    /// [`DwellStiction`].
+    DwellStiction,
+}
+
+impl EffectKind {
+    /// Every effect, in the documented order.
+    pub const ALL: [EffectKind; 8] = [
+        EffectKind::Asymmetry,
+        EffectKind::Offset,
+        EffectKind::LoadDependence,
+        EffectKind::PositionDependence,
+        EffectKind::TemperatureDependence,
+        EffectKind::StribeckShape,
+        EffectKind::ViscousPower,
+        EffectKind::DwellStiction,
+    ];
+
+    /// The name users write (`snake_case`, as in the parameter file's `[effects.NAME]`).
+    pub const fn name(self) -> &'static str {
+        match self {
+            EffectKind::Asymmetry => "asymmetry",
+            EffectKind::Offset => "offset",
+            EffectKind::LoadDependence => "load_dependence",
+            EffectKind::PositionDependence => "position_dependence",
+            EffectKind::TemperatureDependence => "temperature_dependence",
+            EffectKind::StribeckShape => "stribeck_shape",
+            EffectKind::ViscousPower => "viscous_power",
+            EffectKind::DwellStiction => "dwell_stiction",
+        }
+    }
+
+    /// The kind of a name; an unknown name is an error that lists the known ones.
+    pub fn parse(name: &str) -> Result<Self, UnknownEffect> {
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|k| k.name() == name)
+            .ok_or(UnknownEffect)
+    }
+}
+
+impl core::fmt::Display for EffectKind {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl core::str::FromStr for EffectKind {
+    type Err = UnknownEffect;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::parse(s)
+    }
+}
+
+/// A name that is none of the eight effects.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UnknownEffect;
+
+impl core::fmt::Display for UnknownEffect {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("unknown effect; known: ")?;
+        for (i, k) in EffectKind::ALL.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            f.write_str(k.name())?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for UnknownEffect {}
 
 /// Operating conditions some effects depend on.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -212,6 +293,25 @@ impl<T: Float> Effects<T> {
         }
     }
 
+    /// True when the effect of this kind is switched on.
+    pub fn has(&self, kind: EffectKind) -> bool {
+        match kind {
+            EffectKind::Asymmetry => self.asymmetry.is_some(),
+            EffectKind::Offset => self.offset.is_some(),
+            EffectKind::LoadDependence => self.load_dependence.is_some(),
+            EffectKind::PositionDependence => self.position_dependence.is_some(),
+            EffectKind::TemperatureDependence => self.temperature_dependence.is_some(),
+            EffectKind::StribeckShape => self.stribeck_shape.is_some(),
+            EffectKind::ViscousPower => self.viscous_power.is_some(),
+            EffectKind::DwellStiction => self.dwell_stiction.is_some(),
+        }
+    }
+
+    /// The kinds switched on, in [`EffectKind::ALL`] order.
+    pub fn kinds(&self) -> impl Iterator<Item = EffectKind> + '_ {
+        EffectKind::ALL.into_iter().filter(|k| self.has(*k))
+    }
+
     /// Conditions at which every effect is neutral (reference pressure, centre, reference
     /// temperature): a model fed these behaves like its base parameters.
     pub fn reference_conditions(&self) -> Conditions<T> {
@@ -224,5 +324,30 @@ impl<T: Float> Effects<T> {
                 .temperature_dependence
                 .map_or(T::zero(), |t| t.reference_temperature),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_round_trips_through_its_name_and_an_unknown_name_is_refused() {
+        for k in EffectKind::ALL {
+            assert_eq!(EffectKind::parse(k.name()), Ok(k));
+        }
+        assert_eq!(EffectKind::parse("gremlins"), Err(UnknownEffect));
+        assert_eq!(EffectKind::parse("Asymmetry"), Err(UnknownEffect));
+        let mut e = Effects::<f64>::none();
+        assert_eq!(e.kinds().count(), 0);
+        e.offset = Some(Offset { force: 1.0 });
+        e.dwell_stiction = Some(DwellStiction {
+            max_increase: 1.0,
+            time_constant: 1.0,
+            stick_velocity: 1e-4,
+        });
+        let on: [EffectKind; 2] = [EffectKind::Offset, EffectKind::DwellStiction];
+        assert!(e.kinds().eq(on));
+        assert!(EffectKind::ALL.iter().all(|k| e.has(*k) == on.contains(k)));
     }
 }

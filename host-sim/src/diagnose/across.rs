@@ -195,7 +195,12 @@ pub fn record_levels(rec: &Record, name: &str, opts: &Options) -> Result<RecordL
 fn fit_with_offset(p: &Prepared, opts: &Options, n_eff: f64) -> fit::Fit {
     let base = baseline(p, opts, n_eff);
     let with_offset = fit::refit(
-        &add_effect(&base.model, "offset", p, 0.0),
+        &add_effect(
+            &base.model,
+            lugre_servo::friction::EffectKind::Offset,
+            p,
+            0.0,
+        ),
         p,
         opts.mass_kg,
         n_eff,

@@ -838,18 +838,24 @@ pub fn grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
 }
 
 /// A model with one more effect switched on, its nonlinear parameters set (for the grid).
-pub fn add_effect(m: &AxisModel, effect: &str, p: &Prepared, nonlinear: f64) -> AxisModel {
+pub fn add_effect(
+    m: &AxisModel,
+    effect: lugre_servo::friction::EffectKind,
+    p: &Prepared,
+    nonlinear: f64,
+) -> AxisModel {
     let mut out = *m;
     let e = &mut out.friction.effects;
+    use lugre_servo::friction::EffectKind as K;
     match effect {
-        "asymmetry" => {
+        K::Asymmetry => {
             e.asymmetry = Some(fx::Asymmetry {
                 coulomb_ratio: 0.0,
                 viscous_ratio: 0.0,
             })
         }
-        "offset" => e.offset = Some(fx::Offset { force: 0.0 }),
-        "load_dependence" => {
+        K::Offset => e.offset = Some(fx::Offset { force: 0.0 }),
+        K::LoadDependence => {
             let r = p
                 .pressure_sum
                 .as_ref()
@@ -859,7 +865,7 @@ pub fn add_effect(m: &AxisModel, effect: &str, p: &Prepared, nonlinear: f64) -> 
                 reference_pressure_sum: r,
             })
         }
-        "position_dependence" => {
+        K::PositionDependence => {
             let lo = p.x.iter().cloned().fold(f64::INFINITY, f64::min);
             let hi = p.x.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
             // `nonlinear`: the number of cosine terms over the visited stroke
@@ -868,7 +874,7 @@ pub fn add_effect(m: &AxisModel, effect: &str, p: &Prepared, nonlinear: f64) -> 
             pd.terms = (nonlinear.round().max(0.0) as usize).min(fx::POSITION_TERMS);
             e.position_dependence = Some(pd);
         }
-        "temperature_dependence" => {
+        K::TemperatureDependence => {
             let r = p
                 .temperature
                 .as_ref()
@@ -880,25 +886,24 @@ pub fn add_effect(m: &AxisModel, effect: &str, p: &Prepared, nonlinear: f64) -> 
                 reference_temperature: r,
             })
         }
-        "stribeck_shape" => {
+        K::StribeckShape => {
             e.stribeck_shape = Some(fx::StribeckShape {
                 exponent: nonlinear,
             })
         }
-        "viscous_power" => {
+        K::ViscousPower => {
             e.viscous_power = Some(fx::ViscousPower {
                 exponent: nonlinear,
                 reference_velocity: VISCOUS_REFERENCE_VELOCITY,
             })
         }
-        "dwell_stiction" => {
+        K::DwellStiction => {
             e.dwell_stiction = Some(fx::DwellStiction {
                 max_increase: 0.0,
                 time_constant: nonlinear,
                 stick_velocity: DWELL_STICK_VELOCITY,
             })
         }
-        _ => {}
     }
     out
 }

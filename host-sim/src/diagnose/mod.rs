@@ -27,7 +27,7 @@ pub mod static_table;
 use crate::record::Record;
 use fit::{Fit, Param};
 use inverse::{AxisModel, Prepared, Protocol};
-use lugre_servo::friction::{FrictionModel, LugreParams};
+use lugre_servo::friction::{EffectKind, FrictionModel, LugreParams};
 use rayon::prelude::*;
 use regimes::RegimeReport;
 use serde::Serialize;
@@ -35,8 +35,8 @@ use serde::Serialize;
 /// What each candidate effect means, what it needs, how it is searched.
 #[derive(Clone, Copy, Debug)]
 pub struct EffectInfo {
-    /// Name (as the simulator's switch).
-    pub name: &'static str,
+    /// Which effect.
+    pub kind: EffectKind,
     /// Physical meaning, in words.
     pub meaning: &'static str,
     /// Linear parameters it adds.
@@ -48,32 +48,32 @@ pub struct EffectInfo {
 /// The eight candidate effects.
 pub const EFFECTS: [EffectInfo; 8] = [
     EffectInfo {
-        name: "asymmetry",
+        kind: EffectKind::Asymmetry,
         meaning: "friction differs with the direction of motion (seal wear, side load, a fatigued screw)",
         linear: &[Param::AsymCoulomb, Param::AsymViscous],
         nonlinear: None,
     },
     EffectInfo {
-        name: "offset",
+        kind: EffectKind::Offset,
         meaning: "a constant force whatever the motion (gravity on an inclined axis, a spring, a force-sensor offset)",
         linear: &[Param::Offset],
         nonlinear: None,
     },
     EffectInfo {
-        name: "load_dependence",
+        kind: EffectKind::LoadDependence,
         meaning: "seal friction grows with chamber pressure (pressure-energised seals)",
         linear: &[Param::LoadCoefficient],
         nonlinear: None,
     },
     EffectInfo {
-        name: "position_dependence",
+        kind: EffectKind::PositionDependence,
         meaning: "friction changes along the stroke (misalignment, local wear, a bent rod)",
         linear: &[Param::PositionGradient],
         // the number of cosine terms of its shape, chosen by the information criterion
         nonlinear: Some(("terms", &[0.0, 1.0, 2.0, 3.0, 4.0], None)),
     },
     EffectInfo {
-        name: "temperature_dependence",
+        kind: EffectKind::TemperatureDependence,
         meaning: "friction changes as the oil warms (viscous friction falls with viscosity)",
         linear: &[Param::TempCoulomb],
         nonlinear: Some((
@@ -83,19 +83,19 @@ pub const EFFECTS: [EffectInfo; 8] = [
         )),
     },
     EffectInfo {
-        name: "stribeck_shape",
+        kind: EffectKind::StribeckShape,
         meaning: "the fall from breakaway to sliding friction is sharper or gentler than the standard Stribeck curve",
         linear: &[],
         nonlinear: Some(("exponent", &[0.5, 0.7, 0.9, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0], Some(2.0))),
     },
     EffectInfo {
-        name: "viscous_power",
+        kind: EffectKind::ViscousPower,
         meaning: "viscous friction is not proportional to speed (shear-thinning film, turbulent leakage)",
         linear: &[],
         nonlinear: Some(("exponent", &[0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5], Some(1.0))),
     },
     EffectInfo {
-        name: "dwell_stiction",
+        kind: EffectKind::DwellStiction,
         meaning: "the breakaway force grows with time at rest (junction growth, lubricant squeezed out)",
         linear: &[Param::DwellIncrease],
         nonlinear: Some(("time_constant_s", &[0.1, 0.2, 0.5, 1.0, 2.0, 5.0], None)),
@@ -117,7 +117,7 @@ fn grid_objective(info: &EffectInfo, order: f64, rss: f64, n_eff: f64) -> f64 {
 /// a position dependence.
 fn effect_params(info: &EffectInfo, fit: &Fit) -> Vec<Param> {
     let mut out: Vec<Param> = info.linear.to_vec();
-    if info.name == "position_dependence" {
+    if info.kind == EffectKind::PositionDependence {
         out.extend(
             fit.estimates
                 .iter()
@@ -128,18 +128,31 @@ fn effect_params(info: &EffectInfo, fit: &Fit) -> Vec<Param> {
     out
 }
 
-/// Looks an effect up by name.
-pub fn effect_info(name: &str) -> Option<&'static EffectInfo> {
-    EFFECTS.iter().find(|e| e.name == name)
+/// What is known of an effect.
+pub fn effect_info(kind: EffectKind) -> &'static EffectInfo {
+    EFFECTS
+        .iter()
+        .find(|e| e.kind == kind)
+        .expect("EFFECTS lists every EffectKind")
+}
+
+/// The effect a user named; an unknown name is an error naming it and listing the known ones.
+pub fn parse_effect(name: &str) -> Result<EffectKind, String> {
+    EffectKind::parse(name).map_err(|_| {
+        format!(
+            "unknown effect '{name}'; known: {}",
+            EffectKind::ALL.map(EffectKind::name).join(", ")
+        )
+    })
 }
 
 /// Why an effect cannot be tested on this record, if it cannot.
-pub fn missing_channel(name: &str, p: &Prepared) -> Option<String> {
-    match name {
-        "load_dependence" if p.pressure_sum.is_none() => {
+pub fn missing_channel(kind: EffectKind, p: &Prepared) -> Option<String> {
+    match kind {
+        EffectKind::LoadDependence if p.pressure_sum.is_none() => {
             Some("the record has no chamber pressure (p_a and/or p_b)".into())
         }
-        "temperature_dependence" => match &p.temperature {
+        EffectKind::TemperatureDependence => match &p.temperature {
             None => Some("the record has no oil temperature (temp)".into()),
             Some(t) => {
                 let lo = t.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -174,6 +187,9 @@ pub struct ParamReport {
 pub struct Candidate {
     /// Effect name.
     pub effect: String,
+    /// Which effect (the same as `effect`, typed).
+    #[serde(skip)]
+    pub kind: EffectKind,
     /// What it means physically.
     pub meaning: String,
     /// Error with this effect added to the current model [%] (absent when skipped).
@@ -542,7 +558,7 @@ fn mark_unidentified_linear(f: &mut Fit, p: &Prepared, fixed_mass: Option<f64>, 
 /// judged fairly once they have moved.
 pub fn polish(
     current: &Fit,
-    effect: Option<&str>,
+    effect: Option<EffectKind>,
     p: &Prepared,
     fixed_mass: Option<f64>,
     n_eff: f64,
@@ -550,7 +566,7 @@ pub fn polish(
     stiffness: bool,
 ) -> Fit {
     let mut best = current.clone();
-    let grid = effect.and_then(effect_info).and_then(|i| i.nonlinear);
+    let grid = effect.map(effect_info).and_then(|i| i.nonlinear);
     let searched: &[Nonlinear] = if stiffness {
         &[Nonlinear::StribeckVelocity, Nonlinear::BristleStiffness]
     } else {
@@ -567,7 +583,7 @@ pub fn polish(
             }
         }
         if let (Some(name), Some((_, values, _)), Some(info)) =
-            (effect, grid, effect.and_then(effect_info))
+            (effect, grid, effect.map(effect_info))
         {
             let base = best.model;
             let (_, f, _) = fit::grid_min(values, |x| {
@@ -599,23 +615,9 @@ pub fn rank_candidates(
     fixed_mass: Option<f64>,
     n_eff: f64,
 ) -> Vec<Candidate> {
-    let present = |name: &str| {
-        let e = &current.model.friction.effects;
-        match name {
-            "asymmetry" => e.asymmetry.is_some(),
-            "offset" => e.offset.is_some(),
-            "load_dependence" => e.load_dependence.is_some(),
-            "position_dependence" => e.position_dependence.is_some(),
-            "temperature_dependence" => e.temperature_dependence.is_some(),
-            "stribeck_shape" => e.stribeck_shape.is_some(),
-            "viscous_power" => e.viscous_power.is_some(),
-            "dwell_stiction" => e.dwell_stiction.is_some(),
-            _ => true,
-        }
-    };
     let mut out: Vec<Candidate> = EFFECTS
         .par_iter()
-        .filter(|e| !present(e.name))
+        .filter(|e| !current.model.friction.effects.has(e.kind))
         .map(|info| score(p, current, info, fixed_mass, n_eff))
         .collect();
     let by_bic = |a: &Candidate, b: &Candidate| {
@@ -638,13 +640,14 @@ pub fn rank_candidates(
             let f = out[i].fit.as_ref()?;
             Some((
                 i,
-                polish(f, Some(&out[i].effect), p, fixed_mass, n_eff, 1, false),
+                polish(f, Some(out[i].kind), p, fixed_mass, n_eff, 1, false),
             ))
         })
         .collect();
     for (i, f) in polished.iter().cloned() {
         let better = f.rss < out[i].fit.as_ref().map_or(f64::INFINITY, |g| g.rss);
-        if let (Some(info), true) = (effect_info(&out[i].effect), better) {
+        if better {
+            let info = effect_info(out[i].kind);
             let (params, nl) = (out[i].parameters.clone(), out[i].nonlinear_excludes_null);
             out[i] = judge(current, info, f, params, nl, n_eff);
         }
@@ -664,10 +667,10 @@ pub fn rank_candidates(
     });
     let judged: Vec<Candidate> = out
         .par_iter()
-        .map(|c| match (&c.fit, effect_info(&c.effect)) {
-            (Some(f), Some(info)) => judge(
+        .map(|c| match &c.fit {
+            Some(f) => judge(
                 current,
-                info,
+                effect_info(c.kind),
                 f.clone(),
                 c.parameters.clone(),
                 c.nonlinear_excludes_null,
@@ -689,13 +692,14 @@ fn score(
     n_eff: f64,
 ) -> Candidate {
     let mut cand = Candidate {
-        effect: info.name.into(),
+        effect: info.kind.name().into(),
+        kind: info.kind,
         meaning: info.meaning.into(),
         rel_err_pct: None,
         delta_bic: None,
         significant: false,
         parameters: Vec::new(),
-        skipped: missing_channel(info.name, p),
+        skipped: missing_channel(info.kind, p),
         fit: None,
         nonlinear_excludes_null: false,
     };
@@ -706,7 +710,7 @@ fn score(
         Some((name, grid, null)) => {
             let (x, f, profile): (f64, Fit, _) = fit::grid_min(grid, |x| {
                 let f = fit::refit_quick(
-                    &fit::add_effect(&current.model, info.name, p, x),
+                    &fit::add_effect(&current.model, info.kind, p, x),
                     p,
                     fixed_mass,
                     n_eff,
@@ -739,7 +743,7 @@ fn score(
         }
         None => (
             fit::refit(
-                &fit::add_effect(&current.model, info.name, p, 0.0),
+                &fit::add_effect(&current.model, info.kind, p, 0.0),
                 p,
                 fixed_mass,
                 n_eff,
@@ -781,7 +785,7 @@ fn judge(
         .filter(|q| info.nonlinear.is_some_and(|(n, _, _)| n == q.name))
         .collect();
     if let (Some(v), Some(q)) = (
-        nonlinear_value(&fit.model, info.name),
+        nonlinear_value(&fit.model, info.kind),
         parameters.first_mut(),
     ) {
         // report the value the fit ended at (a polish may have moved it)
@@ -806,7 +810,8 @@ fn judge(
     let k = own.len() + usize::from(info.nonlinear.is_some());
     let dbic = n_eff * (current.rss / fit.rss).ln() - k as f64 * n_eff.ln();
     Candidate {
-        effect: info.name.into(),
+        effect: info.kind.name().into(),
+        kind: info.kind,
         meaning: info.meaning.into(),
         rel_err_pct: Some(fit.rel_err_pct),
         delta_bic: Some(dbic),
@@ -821,33 +826,28 @@ fn judge(
 }
 
 /// The nonlinear parameter of an effect in a model.
-fn nonlinear_value(m: &AxisModel, effect: &str) -> Option<f64> {
+fn nonlinear_value(m: &AxisModel, effect: EffectKind) -> Option<f64> {
     let e = &m.friction.effects;
     match effect {
-        "temperature_dependence" => e.temperature_dependence.map(|t| t.viscous_per_kelvin),
-        "stribeck_shape" => e.stribeck_shape.map(|s| s.exponent),
-        "viscous_power" => e.viscous_power.map(|v| v.exponent),
-        "dwell_stiction" => e.dwell_stiction.map(|d| d.time_constant),
-        "position_dependence" => e.position_dependence.map(|x| x.terms as f64),
-        _ => None,
+        EffectKind::TemperatureDependence => e.temperature_dependence.map(|t| t.viscous_per_kelvin),
+        EffectKind::StribeckShape => e.stribeck_shape.map(|s| s.exponent),
+        EffectKind::ViscousPower => e.viscous_power.map(|v| v.exponent),
+        EffectKind::DwellStiction => e.dwell_stiction.map(|d| d.time_constant),
+        EffectKind::PositionDependence => e.position_dependence.map(|x| x.terms as f64),
+        EffectKind::Asymmetry | EffectKind::Offset | EffectKind::LoadDependence => None,
     }
 }
 
 /// Runs the whole diagnosis of a record.
 pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, String> {
     let p = Prepared::new(rec, name, opts.protocol)?;
-    for e in &opts.add {
-        if effect_info(e).is_none() {
-            return Err(format!(
-                "unknown effect '{e}'; known: {}",
-                EFFECTS
-                    .iter()
-                    .map(|e| e.name)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-        }
-        if let Some(why) = missing_channel(e, &p) {
+    let add: Vec<EffectKind> = opts
+        .add
+        .iter()
+        .map(|e| parse_effect(e))
+        .collect::<Result<_, _>>()?;
+    for e in &add {
+        if let Some(why) = missing_channel(*e, &p) {
             return Err(format!("{name}: cannot add '{e}': {why}"));
         }
     }
@@ -866,15 +866,15 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
         true,
     )];
     // the effects asked for, then (with `auto`) the first significant candidate each time
-    for k in 0..opts.add.len() + opts.auto {
-        let e = match opts.add.get(k) {
-            Some(e) => e.clone(),
+    for k in 0..add.len() + opts.auto {
+        let e = match add.get(k) {
+            Some(e) => *e,
             None => match stages[stages.len() - 1]
                 .candidates
                 .iter()
                 .find(|c| c.significant)
             {
-                Some(c) => c.effect.clone(),
+                Some(c) => c.kind,
                 None => break,
             },
         };
@@ -882,7 +882,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
         let fit = prev
             .candidates
             .iter()
-            .find(|c| c.effect == e)
+            .find(|c| c.kind == e)
             .and_then(|c| c.fit.clone())
             .ok_or_else(|| format!("effect '{e}' is already in the model"))?;
         let fit = if opts.given.is_some() {
@@ -892,19 +892,19 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
             // the static table plus the effect. The previous model may have bent its Stribeck
             // curve to mimic the missing effect (a hump with vs at the top speed mimicking a
             // sub-linear viscous law), a local minimum the effect's own search cannot leave.
-            let from_candidate = polish(&fit, Some(&e), &p, fixed_mass, n_eff, 2, true);
+            let from_candidate = polish(&fit, Some(e), &p, fixed_mass, n_eff, 2, true);
             let mut restart = static_seed(&p, fixed_mass);
             restart.friction.effects = fit.model.friction.effects;
             let restart = fit::refit(&restart, &p, fixed_mass, n_eff);
-            let from_table = polish(&restart, Some(&e), &p, fixed_mass, n_eff, 2, true);
+            let from_table = polish(&restart, Some(e), &p, fixed_mass, n_eff, 2, true);
             if from_table.rss < from_candidate.rss {
                 from_table
             } else {
                 from_candidate
             }
         };
-        let last = k + 1 == opts.add.len() + opts.auto;
-        let rank = !(last && opts.skip_final_ranking && k + 1 >= opts.add.len());
+        let last = k + 1 == add.len() + opts.auto;
+        let rank = !(last && opts.skip_final_ranking && k + 1 >= add.len());
         stages.push(stage(format!("+ {e}"), fit, &p, fixed_mass, n_eff, rank));
     }
     Ok(Diagnosis {

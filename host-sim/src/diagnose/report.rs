@@ -289,7 +289,8 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String, St
     );
     for w in d.stages.windows(2) {
         let effect = w[1].label.trim_start_matches("+ ");
-        let meaning = super::effect_info(effect).map_or("", |i| i.meaning);
+        let meaning = lugre_servo::friction::EffectKind::parse(effect)
+            .map_or("", |k| super::effect_info(k).meaning);
         out += &format!(
             "<p>Added <b>{}</b>: {}. Error {:.2} % &rarr; {:.2} %.</p>",
             escape(effect),
