@@ -488,27 +488,9 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
         };
         return fit::refit(&plain, p, fixed_mass, n_eff);
     }
-    // Two starts, the better kept: the table as a stiff contact (the Table 2 kind), and as a
-    // soft one (a 100 um pre-sliding length, vs at 30 % of its range). From one start only,
-    // the searches can settle where a large sigma1 dz/dt stands in for the viscous term
-    // (sigma2 pinned at 0, the mass absorbing the rest): a local minimum inside the box that
-    // no Levenberg-Marquardt step leaves (measured on effect-free independent records).
-    let stiff = static_seed(p, fixed_mass);
-    let (vs_lo, vs_hi) = stribeck_range(p);
-    let q = stiff.friction.params;
-    let soft = fit::with_nonlinear(
-        &stiff,
-        (0.3 * vs_hi).clamp(vs_lo, vs_hi),
-        (q.static_force() / 100e-6).clamp(BRISTLE_STIFFNESS_RANGE.0, BRISTLE_STIFFNESS_RANGE.1),
-    );
-    [stiff, soft]
-        .par_iter()
-        .map(|seed| {
-            let seeded = fit::refit(seed, p, fixed_mass, n_eff);
-            polish(&seeded, None, p, fixed_mass, n_eff, 2, true)
-        })
-        .min_by(|a, b| a.rss.total_cmp(&b.rss))
-        .expect("two starts")
+    let seed = static_seed(p, fixed_mass);
+    let seeded = fit::refit(&seed, p, fixed_mass, n_eff);
+    polish(&seeded, None, p, fixed_mass, n_eff, 2, true)
 }
 
 /// Mass and sigma1 whose 95 % interval reaches zero are not determined by the record. The mass
