@@ -215,23 +215,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         }
     };
     let p = &d.prepared;
-    let along = |axis: &generators::axis::Axis| -> f64 {
-        let friction = axis.friction_along(
-            &p.t,
-            &p.x,
-            &p.v_step,
-            p.pressure_sum.as_deref(),
-            p.temperature.as_deref(),
-            &p.segments,
-            p.dt,
-        );
-        let force: Vec<f64> =
-            p.a.iter()
-                .zip(&friction)
-                .map(|(a, f)| axis.mass_kg * a + f)
-                .collect();
-        p.rel_err_pct(&force)
-    };
+    let along = |axis: &generators::axis::Axis| generators::axis::truth_error_pct(axis, p);
     row.floor_pct = along(&axis);
     row.without_effect_pct = along(&generators::axis::Axis {
         shape: generators::axis::Shape::None,

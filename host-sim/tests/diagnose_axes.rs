@@ -4,7 +4,7 @@
 
 mod generators;
 
-use generators::axis::{random_record, Axis};
+use generators::axis::{random_record, truth_error_pct, Axis};
 use host_sim::diagnose::{self, Diagnosis, Options};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
@@ -104,22 +104,7 @@ fn a_periodic_position_dependence_is_found_and_its_shape_kept() {
 #[test]
 fn the_generator_truth_explains_its_record() {
     let (d, axis) = diagnose(Some("offset"), 1102, &[]);
-    let p = &d.prepared;
-    let friction = axis.friction_along(
-        &p.t,
-        &p.x,
-        &p.v_step,
-        p.pressure_sum.as_deref(),
-        p.temperature.as_deref(),
-        &p.segments,
-        p.dt,
-    );
-    let force: Vec<f64> =
-        p.a.iter()
-            .zip(&friction)
-            .map(|(a, f)| axis.mass_kg * a + f)
-            .collect();
-    let floor = p.rel_err_pct(&force);
+    let floor = truth_error_pct(&axis, &d.prepared);
     let base = d.stages[0].fit.rel_err_pct;
     println!("floor {floor:.2} %, baseline {base:.2} %");
     assert!(floor < 3.0, "{floor}");

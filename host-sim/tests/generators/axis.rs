@@ -437,6 +437,28 @@ impl Axis {
     }
 }
 
+/// The error [%] of this axis's true model driven by the measured motion through the diagnosis
+/// pipeline (`M a + friction` along the prepared record, scored like any model): the noise
+/// floor. The physics stays the generator's own; only the measured motion and the scoring are
+/// the pipeline's.
+pub fn truth_error_pct(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> f64 {
+    let friction = axis.friction_along(
+        &p.t,
+        &p.x,
+        &p.v_step,
+        p.pressure_sum.as_deref(),
+        p.temperature.as_deref(),
+        &p.segments,
+        p.dt,
+    );
+    let force: Vec<f64> =
+        p.a.iter()
+            .zip(&friction)
+            .map(|(a, f)| axis.mass_kg * a + f)
+            .collect();
+    p.rel_err_pct(&force)
+}
+
 /// The dwell clock: time stuck so far while stuck; frozen at its value on departure.
 fn clock(v: f64, h: f64, stuck: &mut f64, dwell: &mut f64) {
     if v.abs() < STICK_SPEED {
