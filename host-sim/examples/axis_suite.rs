@@ -222,17 +222,20 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         ..axis.clone()
     });
     let cands = &d.stages[0].candidates;
-    row.first = cands.first().map(|c| c.effect.clone()).unwrap_or_default();
+    row.first = cands
+        .first()
+        .map(|c| c.kind.to_string())
+        .unwrap_or_default();
     row.first_dbic = cands.first().and_then(|c| c.delta_bic).unwrap_or(f64::NAN);
     row.first_significant = cands
         .iter()
         .find(|c| c.significant)
-        .map(|c| c.effect.clone());
+        .map(|c| c.kind.to_string());
     row.candidates = cands
         .iter()
         .map(|c| {
             (
-                c.effect.clone(),
+                c.kind.to_string(),
                 c.delta_bic.unwrap_or(f64::NAN),
                 c.rel_err_pct.unwrap_or(f64::NAN),
                 c.significant,

@@ -29,7 +29,7 @@ fn report(d: &Diagnosis) -> String {
         .map(|c| {
             format!(
                 "{} {:.2} % dBIC {:.1} {}",
-                c.effect,
+                c.kind,
                 c.rel_err_pct.unwrap_or(f64::NAN),
                 c.delta_bic.unwrap_or(f64::NAN),
                 if c.significant { "significant" } else { "-" }
@@ -62,7 +62,7 @@ fn asymmetry_is_found_where_the_baseline_has_no_viscous_term() {
     let (d, _) = diagnose(Some("asymmetry"), 1000, &[]);
     let first = &d.stages[0].candidates[0];
     println!("{}", report(&d));
-    assert_eq!(first.effect, "asymmetry", "{}", report(&d));
+    assert_eq!(first.kind.name(), "asymmetry", "{}", report(&d));
     assert!(first.significant);
     assert!(
         first.rel_err_pct.unwrap() < 0.3 * d.stages[0].fit.rel_err_pct,
@@ -79,7 +79,7 @@ fn a_periodic_position_dependence_is_found_and_its_shape_kept() {
     let (d, _) = diagnose(Some("position_dependence"), 1301, &["position_dependence"]);
     println!("{}", report(&d));
     let first = &d.stages[0].candidates[0];
-    assert_eq!(first.effect, "position_dependence", "{}", report(&d));
+    assert_eq!(first.kind.name(), "position_dependence", "{}", report(&d));
     assert!(first.significant);
     let base = d.stages[0].fit.rel_err_pct;
     let added = d.stages[1].fit.rel_err_pct;

@@ -21,7 +21,7 @@ fn asymmetry_comes_first_and_brings_the_error_below_3p2_percent() {
     };
     let d = diagnose::diagnose(&est, "emps_estimation.csv", &opts).unwrap();
     let base = &d.stages[0];
-    assert_eq!(base.candidates[0].effect, "asymmetry");
+    assert_eq!(base.candidates[0].kind.name(), "asymmetry");
     assert!(base.candidates[0].significant);
     let after = d.stages[1].fit.rel_err_pct;
     let all = d.stages[1].fit.rel_err_all_pct;

@@ -38,7 +38,7 @@ fn run(effect: Option<&str>, strength: f64, seed: u64) -> Outcome {
     let d = diagnose::diagnose(&rec, "hidden.csv", &opts).unwrap();
     let first = &d.stages[0].candidates[0];
     let o = Outcome {
-        first: first.effect.clone(),
+        first: first.kind.name().to_string(),
         significant: first.significant,
         base: d.stages[0].fit.rel_err_pct,
         added: d.stages[d.stages.len() - 1].fit.rel_err_pct,
@@ -161,7 +161,7 @@ fn invents_nothing_without_an_extra_effect() {
             .candidates
             .iter()
             .filter(|c| c.significant)
-            .map(|c| c.effect.as_str())
+            .map(|c| c.kind.name())
             .collect();
         assert!(sig.is_empty(), "seed {seed}: invented {sig:?}");
     }

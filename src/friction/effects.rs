@@ -104,12 +104,18 @@ impl<T: Float> PositionDependence<T> {
 
     /// The level shift `dF(x)` [N].
     pub fn shift(&self, x: T) -> T {
+        if self.terms == 0 {
+            return self.gradient * (x - self.center);
+        }
+        self.shift_from(x, &self.basis(x))
+    }
+
+    /// The level shift `dF(x)` [N] from an already evaluated [`Self::basis`] at `x` (a fit that
+    /// needs the basis for its regressors evaluates it once).
+    pub fn shift_from(&self, x: T, basis: &[T; POSITION_TERMS]) -> T {
         let mut d = self.gradient * (x - self.center);
-        if self.terms > 0 {
-            let b = self.basis(x);
-            for (c, q) in self.cosine.iter().zip(b.iter()).take(self.terms) {
-                d = d + *c * *q;
-            }
+        for (c, q) in self.cosine.iter().zip(basis.iter()).take(self.terms) {
+            d = d + *c * *q;
         }
         d
     }
@@ -236,7 +242,8 @@ impl EffectKind {
 
 impl core::fmt::Display for EffectKind {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(self.name())
+        // `pad`, not `write_str`: column widths such as `{:<24}` apply
+        f.pad(self.name())
     }
 }
 

@@ -173,7 +173,7 @@ fn diagnosis_chapter(out: &Path) -> Result<(), String> {
         if let (Some(e), Some(b)) = (c.rel_err_pct, c.delta_bic) {
             println!(
                 "     {:<24} {:>6.2} %  dBIC {:>8.1}  {}",
-                c.effect,
+                c.kind,
                 e,
                 b,
                 if c.significant {
@@ -184,13 +184,13 @@ fn diagnosis_chapter(out: &Path) -> Result<(), String> {
             );
         }
     }
-    println!("     -> {}: {}", top.effect, top.meaning);
+    println!("     -> {}: {}", top.kind, top.meaning);
     let truth = AxisModel {
         mass_kg: cfg.cylinder.moving_mass_kg,
         friction: cfg.friction,
     };
     let opts = Options {
-        add: vec![top.effect.clone()],
+        add: vec![top.kind.to_string()],
         truth: Some(truth),
         ..Default::default()
     };

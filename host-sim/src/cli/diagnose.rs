@@ -268,7 +268,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
             println!("   candidate effects (best first):");
             for c in &s.candidates {
                 match (&c.skipped, c.rel_err_pct, c.delta_bic) {
-                    (Some(why), _, _) => println!("   {:<24} skipped: {why}", c.effect),
+                    (Some(why), _, _) => println!("   {:<24} skipped: {why}", c.kind),
                     (None, Some(e), Some(b)) => {
                         let params: Vec<String> = c
                             .parameters
@@ -282,7 +282,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                             .collect();
                         println!(
                             "   {:<24} {:>6.2} %  dBIC {:>8.1}  {}  {}",
-                            c.effect,
+                            c.kind,
                             e,
                             b,
                             if c.significant {

@@ -490,7 +490,8 @@ fn linear_step(
             .filter(|x| x.terms > 0)
             .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
         let shift = e.load_dependence.map_or(0.0, |l| l.coefficient * load_x)
-            + e.position_dependence.map_or(0.0, |x| x.shift(c.position));
+            + e.position_dependence
+                .map_or(0.0, |x| x.shift_from(c.position, &pos_basis));
         // the viscous force is taken at the sample instant (see FrictionModel::step_split)
         let v_now = p.v[i];
         let d_now = if v_now >= 0.0 { 1.0 } else { -1.0 };

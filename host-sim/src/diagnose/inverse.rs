@@ -66,6 +66,9 @@ pub struct Prepared {
     pub max_abs_force: f64,
     /// Largest speed of the filtered motion [m/s] (bounds the viscous and damping terms).
     pub max_abs_velocity: f64,
+    /// Top speed where the axis moves: the 99th percentile of |v| over the scored samples
+    /// [m/s] (robust to a single spike, unlike the maximum).
+    pub top_speed: f64,
 }
 
 /// Below this speed (after filtering) the axis counts as stuck [m/s]. There friction balances
@@ -157,6 +160,13 @@ impl Prepared {
         let temperature = rec.temp.as_ref().map(|t| by_segment(&pos, t));
         let max_abs_force = rec.force.iter().fold(0.0f64, |m, f| m.max(f.abs()));
         let max_abs_velocity = v.iter().fold(0.0f64, |m, s| m.max(s.abs()));
+        let moving_speeds: Vec<f64> = v
+            .iter()
+            .zip(&weight)
+            .filter(|(_, w)| **w > 0.0)
+            .map(|(s, _)| s.abs())
+            .collect();
+        let top_speed = crate::stats::quantile(&moving_speeds, 0.99);
         Ok(Self {
             dt,
             t: rec.t.clone(),
@@ -175,6 +185,7 @@ impl Prepared {
             notes: uniform.notes,
             max_abs_force,
             max_abs_velocity,
+            top_speed,
         })
     }
 

@@ -107,9 +107,10 @@ pub const EFFECTS: [EffectInfo; 8] = [
 /// penalised by the information criterion, `RSS N^(n / N)` (`N ln RSS + n ln N` in BIC form),
 /// so that each term must earn its place.
 fn grid_objective(info: &EffectInfo, order: f64, rss: f64, n_eff: f64) -> f64 {
-    match info.nonlinear {
-        Some(("terms", _, _)) => rss * (order.round().max(0.0) * n_eff.ln() / n_eff).exp(),
-        _ => rss,
+    if info.kind == EffectKind::PositionDependence {
+        rss * (order.round().max(0.0) * n_eff.ln() / n_eff).exp()
+    } else {
+        rss
     }
 }
 
@@ -185,10 +186,8 @@ pub struct ParamReport {
 /// One candidate effect, scored.
 #[derive(Clone, Debug, Serialize)]
 pub struct Candidate {
-    /// Effect name.
-    pub effect: String,
-    /// Which effect (the same as `effect`, typed).
-    #[serde(skip)]
+    /// Which effect (serialised by its name, as `effect`).
+    #[serde(rename = "effect", serialize_with = "effect_name")]
     pub kind: EffectKind,
     /// What it means physically.
     pub meaning: String,
@@ -213,11 +212,17 @@ pub struct Candidate {
     pub nonlinear_excludes_null: bool,
 }
 
+fn effect_name<S: serde::Serializer>(k: &EffectKind, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(k.name())
+}
+
 /// One model along the way (baseline, then one per added effect).
 #[derive(Clone, Debug)]
 pub struct Stage {
     /// "baseline" or "+ effect".
     pub label: String,
+    /// The effect this stage added (None: the baseline).
+    pub effect: Option<EffectKind>,
     /// The fit.
     pub fit: Fit,
     /// Where it fails.
@@ -279,28 +284,15 @@ impl Diagnosis {
 /// the hump has decayed (`exp(-(v/vs)^2) < 1e-4` at `v = 3 vs`): a larger vs would turn the
 /// Stribeck curve into a stand-in for whatever bends the friction curve at high speed.
 pub fn stribeck_range(p: &Prepared) -> (f64, f64) {
-    let moving: Vec<f64> =
-        p.v.iter()
-            .zip(&p.weight)
-            .filter(|(_, w)| **w > 0.0)
-            .map(|(v, _)| v.abs())
-            .collect();
-    let top = crate::stats::quantile(&moving, 0.99) * STRIBECK_TOP_FRACTION;
+    let top = p.top_speed * STRIBECK_TOP_FRACTION;
     (inverse::STUCK_SPEED, top.max(2.0 * inverse::STUCK_SPEED))
 }
 
 /// Upper end of the Stribeck velocity's search range, as a fraction of the record's top speed.
-/// When the search ends at this edge the range is extended once to the top speed itself
-/// ([`stribeck_range_extended`]): on an axis in stick-slip the record hardly leaves the
+/// When the search ends at this edge the range is extended once to the top speed itself: on an axis in stick-slip the record hardly leaves the
 /// Stribeck region, and a vs held at a third of the top speed left a wrong baseline that
 /// flexible candidates then "explained" (measured on effect-free independent records).
 pub const STRIBECK_TOP_FRACTION: f64 = 1.0 / 3.0;
-
-/// The extended search range of the Stribeck velocity: up to the record's top speed.
-pub fn stribeck_range_extended(p: &Prepared) -> (f64, f64) {
-    let (lo, hi) = stribeck_range(p);
-    (lo, (hi / STRIBECK_TOP_FRACTION).max(hi))
-}
 
 /// Search range of the bristle stiffness sigma0 [N/m]: from soft seals to stiff metal contacts.
 pub const BRISTLE_STIFFNESS_RANGE: (f64, f64) = (1e5, 1e10);
@@ -369,14 +361,17 @@ fn search_one(
     fixed_mass: Option<f64>,
     n_eff: f64,
 ) -> Fit {
-    let f = search_in(which, which.range(p), start, p, fixed_mass, n_eff);
+    let (lo, hi) = which.range(p);
+    let f = search_in(which, (lo, hi), start, p, fixed_mass, n_eff);
     let at_top = f
         .flags
         .at_search_edge
         .iter()
-        .any(|(n, v)| *n == which.name() && *v == which.range(p).1);
+        .any(|(n, v)| *n == which.name() && *v == hi);
     if which == Nonlinear::StribeckVelocity && at_top {
-        let wide = search_in(which, stribeck_range_extended(p), &f, p, fixed_mass, n_eff);
+        // once more, up to the record's top speed (see STRIBECK_TOP_FRACTION)
+        let wide = (lo, (hi / STRIBECK_TOP_FRACTION).max(hi));
+        let wide = search_in(which, wide, &f, p, fixed_mass, n_eff);
         if wide.rss < f.rss {
             return wide;
         }
@@ -548,7 +543,6 @@ pub fn polish(
     stiffness: bool,
 ) -> Fit {
     let mut best = current.clone();
-    let grid = effect.map(effect_info).and_then(|i| i.nonlinear);
     let searched: &[Nonlinear] = if stiffness {
         &[Nonlinear::StribeckVelocity, Nonlinear::BristleStiffness]
     } else {
@@ -564,16 +558,20 @@ pub fn polish(
                 best = f;
             }
         }
-        if let (Some(name), Some((_, values, _)), Some(info)) =
-            (effect, grid, effect.map(effect_info))
-        {
+        let info = effect.map(effect_info);
+        if let Some((info, (_, values, _))) = info.and_then(|i| Some((i, i.nonlinear?))) {
             let base = best.model;
             let (_, f, _) = fit::grid_min(values, |x| {
-                let f = fit::refit_quick(&fit::add_effect(&base, name, p, x), p, fixed_mass, n_eff);
+                let f = fit::refit_quick(
+                    &fit::add_effect(&base, info.kind, p, x),
+                    p,
+                    fixed_mass,
+                    n_eff,
+                );
                 (grid_objective(info, x, f.rss, n_eff), f)
             });
             let mut f = fit::refit(&f.model, p, fixed_mass, n_eff);
-            let order = |f: &Fit| nonlinear_value(&f.model, name).unwrap_or(0.0);
+            let order = |f: &Fit| nonlinear_value(&f.model, info.kind).unwrap_or(0.0);
             if grid_objective(info, order(&f), f.rss, n_eff)
                 < grid_objective(info, order(&best), best.rss, n_eff)
             {
@@ -674,7 +672,6 @@ fn score(
     n_eff: f64,
 ) -> Candidate {
     let mut cand = Candidate {
-        effect: info.kind.name().into(),
         kind: info.kind,
         meaning: info.meaning.into(),
         rel_err_pct: None,
@@ -792,7 +789,6 @@ fn judge(
     let k = own.len() + usize::from(info.nonlinear.is_some());
     let dbic = n_eff * (current.rss / fit.rss).ln() - k as f64 * n_eff.ln();
     Candidate {
-        effect: info.kind.name().into(),
         kind: info.kind,
         meaning: info.meaning.into(),
         rel_err_pct: Some(fit.rel_err_pct),
@@ -839,14 +835,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
 
     let tables = static_table::fit(&p, fixed_mass);
     let base = baseline(&p, opts, n_eff);
-    let mut stages = vec![stage(
-        "baseline (symmetric LuGre)".into(),
-        base,
-        &p,
-        fixed_mass,
-        n_eff,
-        true,
-    )];
+    let mut stages = vec![stage(None, base, &p, fixed_mass, n_eff, true)];
     // the effects asked for, then (with `auto`) the first significant candidate each time
     for k in 0..add.len() + opts.auto {
         let e = match add.get(k) {
@@ -885,9 +874,8 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
                 from_candidate
             }
         };
-        let last = k + 1 == add.len() + opts.auto;
-        let rank = !(last && opts.skip_final_ranking && k + 1 >= add.len());
-        stages.push(stage(format!("+ {e}"), fit, &p, fixed_mass, n_eff, rank));
+        let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);
+        stages.push(stage(Some(e), fit, &p, fixed_mass, n_eff, rank));
     }
     Ok(Diagnosis {
         noise_floor_pct: opts.truth.map(|t| p.rel_err_pct(&t.predict(&p))),
@@ -900,7 +888,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
 }
 
 fn stage(
-    label: String,
+    effect: Option<EffectKind>,
     fit: Fit,
     p: &Prepared,
     fixed_mass: Option<f64>,
@@ -915,7 +903,8 @@ fn stage(
         Vec::new()
     };
     Stage {
-        label,
+        label: effect.map_or("baseline (symmetric LuGre)".into(), |e| format!("+ {e}")),
+        effect,
         fit,
         regimes,
         candidates,

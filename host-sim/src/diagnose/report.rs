@@ -288,9 +288,8 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String, St
         d.noise_floor_pct.map_or(String::new(), |n| format!(" (noise floor {n:.2} %)"))
     );
     for w in d.stages.windows(2) {
-        let effect = w[1].label.trim_start_matches("+ ");
-        let meaning = lugre_servo::friction::EffectKind::parse(effect)
-            .map_or("", |k| super::effect_info(k).meaning);
+        let effect = w[1].effect.map_or("", |k| k.name());
+        let meaning = w[1].effect.map_or("", |k| super::effect_info(k).meaning);
         out += &format!(
             "<p>Added <b>{}</b>: {}. Error {:.2} % &rarr; {:.2} %.</p>",
             escape(effect),
@@ -303,9 +302,9 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String, St
         if d.stages.len() == 1 {
             out += &format!(
                 "<p>Most likely missing effect: <b>{}</b> ({}). Add it with <code>--add {}</code>.</p>",
-                escape(&c.effect),
+                escape(c.kind.name()),
                 escape(&c.meaning),
-                escape(&c.effect)
+                escape(c.kind.name())
             );
         }
     }
@@ -342,7 +341,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String, St
         .iter()
         .map(|c| {
             vec![
-                c.effect.clone(),
+                c.kind.name().to_string(),
                 c.meaning.clone(),
                 c.rel_err_pct.map_or("-".into(), |e| format!("{e:.2} %")),
                 c.delta_bic.map_or("-".into(), |b| format!("{b:.1}")),
