@@ -21,10 +21,13 @@
 //! Modules, one concept each:
 //! * [`friction`]: parameters, the LuGre model and its exact zero-order-hold step, extra effects.
 //! * [`identify`]: the two-stage identification costs and the genetic algorithms.
+//! * [`axis`]: the cylinder's geometry (areas, stroke, mass), shared by plant, controller and
+//!   firmware.
 //! * [`control`]: the 1 kHz controller: estimator, observer, feed-forward, cascade,
 //!   refinement, faults.
 #![cfg_attr(not(feature = "std"), no_std)]
 
+pub mod axis;
 pub mod control;
 pub mod friction;
 pub mod identify;

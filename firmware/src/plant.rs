@@ -3,17 +3,19 @@
 //! below 1 bar), compressible chambers with leakage, 200 kg mass, Table 2 LuGre friction with
 //! the core's exact step; sub-steps of 100 us (semi-implicit for spool and mass).
 
+use lugre_servo::axis::AxisGeometry;
 use lugre_servo::friction::{Conditions, FrictionModel, FrictionState, LugreParams};
 
 const PS: f32 = 210e5;
 const PT: f32 = 1e5;
-const AA: f32 = 1.963_495e-3;
-const AB: f32 = 1.347_743e-3;
-const STROKE: f32 = 0.5;
+const AXIS: AxisGeometry = AxisGeometry::SIMULATED;
+const AA: f32 = AXIS.piston_area_m2() as f32;
+const AB: f32 = AXIS.annulus_area_m2() as f32;
+const STROKE: f32 = AXIS.stroke_m as f32;
 const V0: f32 = 5e-5;
 const BETA: f32 = 1.4e9;
 const LEAK: f32 = 2e-13;
-const MASS: f32 = 200.0;
+const MASS: f32 = AXIS.moving_mass_kg as f32;
 const KQ: f32 = 3.563_483e-7; // 40 L/min at 35 bar per land
 const WV: f32 = 628.318_5;
 

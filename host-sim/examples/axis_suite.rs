@@ -210,7 +210,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
     let d = match diagnose::diagnose(&rec, &name, &opts) {
         Ok(d) => d,
         Err(e) => {
-            row.error = Some(e);
+            row.error = Some(e.to_string());
             return row;
         }
     };

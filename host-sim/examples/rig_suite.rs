@@ -57,7 +57,7 @@ fn main() {
                 Err(e) => Row {
                     record: name,
                     analysed: false,
-                    error: Some(e),
+                    error: Some(e.to_string()),
                     mass_kg: f64::NAN,
                     static_pct: f64::NAN,
                     baseline_pct: f64::NAN,
@@ -74,7 +74,9 @@ fn main() {
                             Ok(_) => "written, physical".into(),
                             Err(e) => format!("NON-PHYSICAL: {e}"),
                         },
-                        Err(e) => format!("refused: {}", e.split(';').next().unwrap_or("")),
+                        Err(e) => {
+                            format!("refused: {}", e.to_string().split(';').next().unwrap_or(""))
+                        }
                     };
                     Row {
                         record: name,

@@ -128,16 +128,9 @@ fn push(c: &mut Option<Vec<f64>>, v: f64) {
     }
 }
 
-/// One point of the measured steady-state friction curve.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SteadyPoint {
-    /// Mean velocity over the window [m/s] (from the encoder).
-    pub velocity: f64,
-    /// Mean friction force over the window [N].
-    pub force: f64,
-    /// Standard deviation of the force in the window [N].
-    pub force_std: f64,
-}
+/// One point of the measured steady-state friction curve: the core's type, which the static
+/// identification stage consumes.
+pub use lugre_servo::identify::cost::SteadyPoint;
 
 /// Log-spaced sweep velocities [m/s], `n` points from `v_min` to `v_max`.
 pub fn log_speeds(v_min: f64, v_max: f64, n: usize) -> Vec<f64> {
@@ -198,15 +191,9 @@ pub fn steady_point(r: &Record, i0: usize, i1: usize, mass: f64) -> SteadyPoint 
     let v_end = (r.x[i1 - 1] - r.x[i1 - 1 - k]) / (r.t[i1 - 1] - r.t[i1 - 1 - k]);
     let mean_acc = (v_end - v_start) / dt;
     let mean_f = r.force[i0..i1].iter().sum::<f64>() / n;
-    let var = r.force[i0..i1]
-        .iter()
-        .map(|f| (f - mean_f).powi(2))
-        .sum::<f64>()
-        / n;
     SteadyPoint {
         velocity,
         force: mean_f - mass * mean_acc,
-        force_std: var.sqrt(),
     }
 }
 

@@ -21,6 +21,7 @@
 
 use crate::diagnose::fit::integrated_autocorrelation_time;
 use crate::diagnose::inverse::{Prepared, Protocol};
+use crate::error::{DataProblem, Error, Result};
 use crate::experiments;
 use crate::plant::{PlantConfig, SensorConfig};
 use crate::record::Record;
@@ -146,16 +147,14 @@ pub fn realistic_data(cfg: &PlantConfig, seed: u64) -> IdentData {
 
 /// Both experiments of the realistic setting on the hydraulic simulator behind `sensors`.
 pub fn realistic_data_with(cfg: &PlantConfig, sensors: SensorConfig) -> IdentData {
-    let (_, pts) = experiments::velocity_sweep(cfg, sensors, &sweep_speeds());
-    let points = pts
-        .iter()
-        .map(|p| SteadyPoint {
-            velocity: p.velocity,
-            force: p.force,
-        })
-        .collect();
+    let (_, points) = experiments::velocity_sweep(cfg, sensors, &sweep_speeds());
     let rec = experiments::sinusoid(cfg, sensors, 0.0006, 0.5, 2.0);
-    let mut d = dynamic_from_record(&rec, cfg.cylinder.moving_mass_kg).unwrap_or(IdentData {
+    let mut d = dynamic_from_record(
+        &rec,
+        cfg.cylinder.moving_mass_kg,
+        "simulated dynamic record",
+    )
+    .unwrap_or(IdentData {
         points: vec![],
         velocity: vec![],
         force: vec![],
@@ -170,12 +169,12 @@ pub fn realistic_data_with(cfg: &PlantConfig, sensors: SensorConfig) -> IdentDat
 /// a low-pass would smear the stick at each reversal over several samples: measured, it
 /// biased sigma0 by -30 % instead of -24 %); friction = force - M a with the acceleration from
 /// the 100 Hz zero-phase low-passed position.
-pub fn dynamic_from_record(rec: &Record, mass: f64) -> Result<IdentData, String> {
+pub fn dynamic_from_record(rec: &Record, mass: f64, name: &str) -> Result<IdentData> {
     let protocol = Protocol {
         position_cutoff_hz: 100.0,
         parallel_cutoff_hz: 100.0,
     };
-    let p = Prepared::new(rec, "dynamic record", protocol)?;
+    let p = Prepared::new(rec, name, protocol)?;
     let force = rec
         .force
         .iter()
@@ -195,14 +194,11 @@ pub fn dynamic_from_record(rec: &Record, mass: f64) -> Result<IdentData, String>
 
 /// Steady-state points from a measured sweep record: each constant-velocity leg of `x_ref`
 /// (at least 0.4 s long) gives one point, averaged over its last 60 %.
-pub fn steady_points_from_record(
-    rec: &Record,
-    mass: f64,
-    name: &str,
-) -> Result<Vec<SteadyPoint>, String> {
-    let x_ref = rec.x_ref.as_ref().ok_or_else(|| {
-        format!("{name}: the sweep record needs an x_ref column to find its constant-velocity legs")
-    })?;
+pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<Vec<SteadyPoint>> {
+    let x_ref = rec
+        .x_ref
+        .as_ref()
+        .ok_or_else(|| Error::data(name, DataProblem::NoReference))?;
     let dt = rec.sample_period();
     let v_ref: Vec<f64> = x_ref.windows(2).map(|w| (w[1] - w[0]) / dt).collect();
     let mut points = Vec::new();
@@ -214,19 +210,12 @@ pub fn steady_points_from_record(
             j += 1;
         }
         if v.abs() > 1e-5 && (j - i) as f64 * dt >= 0.4 {
-            let q = experiments::steady_point(rec, i + (j - i) * 2 / 5, j, mass);
-            points.push(SteadyPoint {
-                velocity: q.velocity,
-                force: q.force,
-            });
+            points.push(experiments::steady_point(rec, i + (j - i) * 2 / 5, j, mass));
         }
         i = j.max(i + 1);
     }
     if points.len() < 6 {
-        return Err(format!(
-            "{name}: found {} constant-velocity legs of at least 0.4 s, need 6 or more for the static stage",
-            points.len()
-        ));
+        return Err(Error::data(name, DataProblem::TooFewLegs(points.len())));
     }
     Ok(points)
 }

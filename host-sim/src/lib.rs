@@ -4,7 +4,9 @@
 //! hardware ([`plant`]), the experiments engineers run on a rig ([`experiments`]), the common
 //! measurement format ([`record`]) and parameter file ([`params_file`]).
 
+pub mod chart;
 pub mod diagnose;
+pub mod error;
 pub mod experiments;
 pub mod identify;
 pub mod params_file;
@@ -14,3 +16,5 @@ pub mod scenarios;
 pub mod stats;
 pub mod timing;
 pub mod track;
+
+pub use error::{Error, Result};

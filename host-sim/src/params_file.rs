@@ -22,9 +22,10 @@
 //! ```
 
 use lugre_servo::friction::effects as fx;
+use lugre_servo::friction::EffectKind;
 use lugre_servo::friction::{Effects, FrictionModel, LugreParams};
 use serde::{Deserialize, Serialize};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// `[lugre]`: the six base parameters with their units in the key names.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -229,8 +230,9 @@ impl ParamFile {
         }
     }
 
-    /// The validated model (error names the field and says what is wrong).
-    pub fn model(&self) -> Result<FrictionModel<f64>, String> {
+    /// The validated model (the error names the section and field and says what is wrong).
+    pub fn model(&self) -> Result<FrictionModel<f64>, InvalidParams> {
+        use lugre_servo::friction::EffectKind as K;
         let l = &self.lugre;
         let params = LugreParams::new(
             l.bristle_stiffness_n_per_m,
@@ -240,33 +242,31 @@ impl ParamFile {
             l.static_force_n,
             l.stribeck_velocity_m_per_s,
         )
-        .map_err(|e| format!("[lugre] {e}"))?;
-        params
-            .check_physical()
-            .map_err(|e| format!("[lugre] {e}"))?;
+        .map_err(InvalidParams::Lugre)?;
+        params.check_physical().map_err(InvalidParams::Lugre)?;
         if !(self.axis.moving_mass_kg.is_finite() && self.axis.moving_mass_kg > 0.0) {
-            return Err("[axis] moving_mass_kg must be a finite number greater than zero".into());
+            return Err(InvalidParams::Mass);
         }
         let e = &self.effects;
-        let finite = |name: &str, vals: &[f64]| -> Result<(), String> {
+        let finite = |effect: K, vals: &[f64]| {
             if vals.iter().all(|v| v.is_finite()) {
                 Ok(())
             } else {
-                Err(format!("[effects.{name}] every value must be finite"))
+                Err(InvalidParams::NotFinite { effect })
             }
         };
-        let positive = |name: &str, what: &str, v: f64| -> Result<(), String> {
+        let positive = |effect: K, field: &'static str, v: f64| {
             if v > 0.0 {
                 Ok(())
             } else {
-                Err(format!("[effects.{name}] {what} must be greater than zero"))
+                Err(InvalidParams::NotPositive { effect, field })
             }
         };
         let mut effects = Effects::none();
         if let Some(a) = e.asymmetry {
-            finite("asymmetry", &[a.coulomb_ratio, a.viscous_ratio])?;
+            finite(K::Asymmetry, &[a.coulomb_ratio, a.viscous_ratio])?;
             if a.coulomb_ratio.abs() >= 1.0 || a.viscous_ratio.abs() >= 1.0 {
-                return Err("[effects.asymmetry] ratios must be within (-1, 1)".into());
+                return Err(InvalidParams::AsymmetryRatio);
             }
             effects.asymmetry = Some(fx::Asymmetry {
                 coulomb_ratio: a.coulomb_ratio,
@@ -274,12 +274,12 @@ impl ParamFile {
             });
         }
         if let Some(o) = e.offset {
-            finite("offset", &[o.force_n])?;
+            finite(K::Offset, &[o.force_n])?;
             effects.offset = Some(fx::Offset { force: o.force_n });
         }
         if let Some(l) = e.load_dependence {
             finite(
-                "load_dependence",
+                K::LoadDependence,
                 &[l.coefficient_n_per_pa, l.reference_pressure_sum_pa],
             )?;
             effects.load_dependence = Some(fx::LoadDependence {
@@ -288,19 +288,18 @@ impl ParamFile {
             });
         }
         if let Some(x) = &e.position_dependence {
-            finite("position_dependence", &[x.gradient_n_per_m, x.center_m])?;
-            finite("position_dependence", &x.cosine_n)?;
+            finite(K::PositionDependence, &[x.gradient_n_per_m, x.center_m])?;
+            finite(K::PositionDependence, &x.cosine_n)?;
             let mut pd = fx::PositionDependence::linear(x.gradient_n_per_m, x.center_m);
             if !x.cosine_n.is_empty() {
                 if x.cosine_n.len() > fx::POSITION_TERMS {
-                    return Err(format!(
-                        "[effects.position_dependence] cosine_n: at most {} terms, got {}",
-                        fx::POSITION_TERMS,
-                        x.cosine_n.len()
-                    ));
+                    return Err(InvalidParams::TooManyCosineTerms {
+                        max: fx::POSITION_TERMS,
+                        got: x.cosine_n.len(),
+                    });
                 }
                 let span = x.half_span_m.unwrap_or(f64::NAN);
-                positive("position_dependence", "half_span_m", span)?;
+                positive(K::PositionDependence, "half_span_m", span)?;
                 pd.half_span = span;
                 pd.terms = x.cosine_n.len();
                 pd.cosine[..pd.terms].copy_from_slice(&x.cosine_n);
@@ -309,7 +308,7 @@ impl ParamFile {
         }
         if let Some(t) = e.temperature_dependence {
             finite(
-                "temperature_dependence",
+                K::TemperatureDependence,
                 &[
                     t.viscous_per_kelvin,
                     t.coulomb_per_kelvin,
@@ -323,17 +322,17 @@ impl ParamFile {
             });
         }
         if let Some(s) = e.stribeck_shape {
-            finite("stribeck_shape", &[s.exponent])?;
-            positive("stribeck_shape", "exponent", s.exponent)?;
+            finite(K::StribeckShape, &[s.exponent])?;
+            positive(K::StribeckShape, "exponent", s.exponent)?;
             effects.stribeck_shape = Some(fx::StribeckShape {
                 exponent: s.exponent,
             });
         }
         if let Some(v) = e.viscous_power {
-            finite("viscous_power", &[v.exponent, v.reference_velocity_m_per_s])?;
-            positive("viscous_power", "exponent", v.exponent)?;
+            finite(K::ViscousPower, &[v.exponent, v.reference_velocity_m_per_s])?;
+            positive(K::ViscousPower, "exponent", v.exponent)?;
             positive(
-                "viscous_power",
+                K::ViscousPower,
                 "reference_velocity_m_per_s",
                 v.reference_velocity_m_per_s,
             )?;
@@ -344,16 +343,16 @@ impl ParamFile {
         }
         if let Some(d) = e.dwell_stiction {
             finite(
-                "dwell_stiction",
+                K::DwellStiction,
                 &[
                     d.max_increase_n,
                     d.time_constant_s,
                     d.stick_velocity_m_per_s,
                 ],
             )?;
-            positive("dwell_stiction", "time_constant_s", d.time_constant_s)?;
+            positive(K::DwellStiction, "time_constant_s", d.time_constant_s)?;
             positive(
-                "dwell_stiction",
+                K::DwellStiction,
                 "stick_velocity_m_per_s",
                 d.stick_velocity_m_per_s,
             )?;
@@ -367,35 +366,40 @@ impl ParamFile {
     }
 
     /// Reads, parses and validates a parameter file; errors name the file (and line/column for
-    /// syntax errors, the field for invalid values).
-    pub fn read(path: &Path) -> Result<(Self, FrictionModel<f64>), String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        let file: ParamFile = toml::from_str(&text).map_err(|e| {
-            let at = e
-                .span()
-                .map(|s| {
-                    let before = &text[..s.start.min(text.len())];
-                    let line = before.matches('\n').count() + 1;
-                    let col = s.start - before.rfind('\n').map_or(0, |i| i + 1) + 1;
-                    format!(":{line}:{col}")
-                })
-                .unwrap_or_default();
-            format!("{}{at}: {}", path.display(), e.message())
+    /// syntax errors, the section and field for invalid values).
+    pub fn read(path: &Path) -> Result<(Self, FrictionModel<f64>), ParamFileError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ParamFileError::Read {
+            path: path.to_path_buf(),
+            source,
         })?;
-        let model = file
-            .model()
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let file: ParamFile = toml::from_str(&text).map_err(|e| ParamFileError::Syntax {
+            path: path.to_path_buf(),
+            at: e.span().map(|s| {
+                let before = &text[..s.start.min(text.len())];
+                let line = before.matches('\n').count() + 1;
+                let column = s.start - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+                (line, column)
+            }),
+            message: e.message().to_string(),
+        })?;
+        let model = file.model().map_err(|problem| ParamFileError::Invalid {
+            path: path.to_path_buf(),
+            problem,
+        })?;
         Ok((file, model))
     }
 
     /// Validates (as [`Self::read`] would) and writes the file: a set that would put a
     /// non-physical value into a controller is refused, naming the field, and nothing is written.
-    pub fn write_checked(&self, path: &Path) -> Result<(), String> {
-        self.model()
-            .map_err(|e| format!("{}: not written: {e}", path.display()))?;
-        self.write(path)
-            .map_err(|e| format!("{}: {e}", path.display()))
+    pub fn write_checked(&self, path: &Path) -> Result<(), ParamFileError> {
+        self.model().map_err(|problem| ParamFileError::NotWritten {
+            path: path.to_path_buf(),
+            problem,
+        })?;
+        self.write(path).map_err(|source| ParamFileError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
     }
 
     /// Writes the file with a header comment (unchecked: see [`Self::write_checked`]).
@@ -408,4 +412,87 @@ impl ParamFile {
         );
         std::fs::write(path, text)
     }
+}
+
+/// A parameter file refused.
+#[derive(Debug, thiserror::Error)]
+pub enum ParamFileError {
+    /// The file cannot be read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+    /// Not TOML, or not the parameter file's shape (unknown or missing key, wrong type).
+    #[error("{}{}: {message}", path.display(), at.map_or(String::new(), |(l, c)| format!(":{l}:{c}")))]
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line and column, when the parser gives them.
+        at: Option<(usize, usize)>,
+        /// The parser's words.
+        message: String,
+    },
+    /// Read, but a value is invalid or non-physical.
+    #[error("{}: {problem}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// Which section and field, and why.
+        problem: InvalidParams,
+    },
+    /// Not written: a value is invalid or non-physical (nothing was written).
+    #[error("{}: not written: {problem}", path.display())]
+    NotWritten {
+        /// The file.
+        path: PathBuf,
+        /// Which section and field, and why.
+        problem: InvalidParams,
+    },
+    /// Writing failed.
+    #[error("{}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+}
+
+/// A parameter set a controller must not get: which section and field, and why.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum InvalidParams {
+    /// `[lugre]`: the core's own check (finite, signs, Fs >= Fc, the physical range).
+    #[error("[lugre] {0}")]
+    Lugre(lugre_servo::friction::ParamError),
+    /// `[axis] moving_mass_kg`.
+    #[error("[axis] moving_mass_kg must be a finite number greater than zero")]
+    Mass,
+    /// An effect's value is NaN or infinite.
+    #[error("[effects.{effect}] every value must be finite")]
+    NotFinite {
+        /// The effect's table.
+        effect: EffectKind,
+    },
+    /// An effect's field must be positive.
+    #[error("[effects.{effect}] {field} must be greater than zero")]
+    NotPositive {
+        /// The effect's table.
+        effect: EffectKind,
+        /// The key.
+        field: &'static str,
+    },
+    /// `[effects.asymmetry]` ratios outside (-1, 1) would reverse a direction's friction.
+    #[error("[effects.asymmetry] ratios must be within (-1, 1)")]
+    AsymmetryRatio,
+    /// `[effects.position_dependence] cosine_n` longer than the core holds.
+    #[error("[effects.position_dependence] cosine_n: at most {max} terms, got {got}")]
+    TooManyCosineTerms {
+        /// The core's limit.
+        max: usize,
+        /// Terms in the file.
+        got: usize,
+    },
 }

@@ -7,7 +7,7 @@ use crate::record::Record;
 use lugre_servo::friction::effects as fx;
 
 /// Switches effect `name` on in `cfg`; `strength` 1.0 is clearly visible, 0.3 subtle.
-pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> Result<(), String> {
+pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::Result<()> {
     use lugre_servo::friction::EffectKind as K;
     let kind = crate::diagnose::parse_effect(name)?;
     let e = &mut cfg.friction.effects;

@@ -18,6 +18,7 @@
 //! with file and line), a sample rate below [`MIN_RATE_HZ`] (too slow to see a reversal), and a
 //! record whose segments are all too short.
 
+use crate::error::{DataProblem, Error, Result};
 use crate::record::Record;
 use std::ops::Range;
 
@@ -44,29 +45,29 @@ pub struct Uniform {
 }
 
 /// Makes a record uniform (see the module docs); `name` is used in messages.
-pub fn uniform(rec: &Record, name: &str) -> Result<Uniform, String> {
+pub fn uniform(rec: &Record, name: &str) -> Result<Uniform> {
     let n = rec.len();
     if n < 2 {
-        return Err(format!(
-            "{name}: a record needs at least 2 samples, has {n}"
-        ));
+        return Err(Error::data(name, DataProblem::TooFewSamples(n)));
     }
     let intervals: Vec<f64> = rec.t.windows(2).map(|w| w[1] - w[0]).collect();
     if let Some(i) = intervals.iter().position(|d| d.is_nan() || *d <= 0.0) {
-        return Err(format!(
-            "{name}: time does not increase at sample {} ({} after {})",
-            i + 2,
-            rec.t[i + 1],
-            rec.t[i]
+        return Err(Error::data(
+            name,
+            DataProblem::TimeNotIncreasing {
+                sample: i + 2,
+                t_s: rec.t[i + 1],
+                previous_s: rec.t[i],
+            },
         ));
     }
     let median = crate::stats::median(&intervals);
     if 1.0 / median < MIN_RATE_HZ {
-        return Err(format!(
-            "{name}: sampled at {} (median interval {}), too slow for friction dynamics; at least {} Hz is needed",
-            hz(1.0 / median),
-            seconds(median),
-            MIN_RATE_HZ
+        return Err(Error::data(
+            name,
+            DataProblem::TooSlow {
+                median_interval_s: median,
+            },
         ));
     }
     // split at gaps
@@ -91,9 +92,7 @@ pub fn uniform(rec: &Record, name: &str) -> Result<Uniform, String> {
         .filter(|r| r.len() >= MIN_SEGMENT_SAMPLES)
         .collect();
     if kept.is_empty() {
-        return Err(format!(
-            "{name}: every stretch between logger gaps is shorter than {MIN_SEGMENT_SAMPLES} samples"
-        ));
+        return Err(Error::data(name, DataProblem::OnlyShortSegments));
     }
     let regular = intervals
         .iter()
@@ -336,7 +335,7 @@ mod tests {
             rec.x.push(0.0);
             rec.force.push(0.0);
         }
-        let e = uniform(&rec, "slow.csv").unwrap_err();
+        let e = uniform(&rec, "slow.csv").unwrap_err().to_string();
         assert!(
             e.contains("slow.csv") && e.contains("10 Hz") && e.contains("100 ms"),
             "{e}"

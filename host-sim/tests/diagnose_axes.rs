@@ -125,7 +125,7 @@ fn a_parameter_file_refuses_a_bad_position_shape() {
     ] {
         let path = dir.path().join("bad.toml");
         std::fs::write(&path, format!("{base}{extra}")).unwrap();
-        let e = ParamFile::read(&path).unwrap_err();
+        let e = ParamFile::read(&path).unwrap_err().to_string();
         assert!(e.contains(why), "{extra}: {e}");
     }
     let path = dir.path().join("good.toml");

@@ -21,13 +21,17 @@ fn record(n: usize, moving: bool) -> Record {
 
 #[test]
 fn too_short_record_is_refused() {
-    let e = diagnose::diagnose(&record(100, true), "short.csv", &Options::default()).unwrap_err();
+    let e = diagnose::diagnose(&record(100, true), "short.csv", &Options::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("short.csv") && e.contains("too short"), "{e}");
 }
 
 #[test]
 fn record_without_motion_is_refused() {
-    let e = diagnose::diagnose(&record(5000, false), "still.csv", &Options::default()).unwrap_err();
+    let e = diagnose::diagnose(&record(5000, false), "still.csv", &Options::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("still.csv") && e.contains("no motion"), "{e}");
 }
 
@@ -37,13 +41,17 @@ fn asking_for_a_missing_channel_names_it() {
         add: vec!["load_dependence".into()],
         ..Default::default()
     };
-    let e = diagnose::diagnose(&record(5000, true), "nopress.csv", &opts).unwrap_err();
+    let e = diagnose::diagnose(&record(5000, true), "nopress.csv", &opts)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("no chamber pressure (p_a and/or p_b)"), "{e}");
     let opts = Options {
         add: vec!["temperature_dependence".into()],
         ..Default::default()
     };
-    let e = diagnose::diagnose(&record(5000, true), "notemp.csv", &opts).unwrap_err();
+    let e = diagnose::diagnose(&record(5000, true), "notemp.csv", &opts)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("no oil temperature"), "{e}");
 }
 
@@ -53,7 +61,9 @@ fn unknown_effect_lists_the_known_ones() {
         add: vec!["gremlins".into()],
         ..Default::default()
     };
-    let e = diagnose::diagnose(&record(5000, true), "r.csv", &opts).unwrap_err();
+    let e = diagnose::diagnose(&record(5000, true), "r.csv", &opts)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("unknown effect 'gremlins'") && e.contains("asymmetry"),
         "{e}"

@@ -67,10 +67,7 @@ fn record_file_messages() {
     let e = Record::read(Path::new("/nonexistent/r.csv"))
         .unwrap_err()
         .to_string();
-    assert!(
-        e.starts_with("/nonexistent/r.csv: cannot read: "),
-        "{e}"
-    );
+    assert!(e.starts_with("/nonexistent/r.csv: cannot read: "), "{e}");
 }
 
 #[test]
@@ -171,12 +168,18 @@ fn record_analysis_messages() {
     let mut back = record(10, 1e-3, true);
     back.t[5] = back.t[3];
     assert_eq!(
-        timing::uniform(&back, "b.csv").map(|_| ()).unwrap_err().to_string(),
+        timing::uniform(&back, "b.csv")
+            .map(|_| ())
+            .unwrap_err()
+            .to_string(),
         "b.csv: time does not increase at sample 6 (0.003 after 0.004)"
     );
     let three = vec![("a.csv".to_string(), record(5000, 1e-3, true))];
     assert_eq!(
-        across::analyse(&three, &opts).map(|_| ()).unwrap_err().to_string(),
+        across::analyse(&three, &opts)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string(),
         "diagnosis across records needs at least 3 records, got 1"
     );
     let mut cfg = host_sim::plant::PlantConfig::default();
@@ -240,7 +243,11 @@ fn command_line_messages() {
         run(&["diagnose", "--data", "empty"]),
         "error: empty: no .csv records in this folder"
     );
-    std::fs::write(dir.path().join("bad.csv"), "t,x,force\n0,0,1\n0.001,0,NaN\n").unwrap();
+    std::fs::write(
+        dir.path().join("bad.csv"),
+        "t,x,force\n0,0,1\n0.001,0,NaN\n",
+    )
+    .unwrap();
     assert_eq!(
         run(&["diagnose", "--data", "bad.csv"]),
         "error: bad.csv:3:3: column 'force': value 'NaN' is not finite (NaN)"

@@ -126,7 +126,9 @@ fn bad_parameter_files_are_refused_with_the_field() {
         ("[lugre\n".to_string(), "bad.toml:1:"),
     ];
     for (text, want) in cases {
-        let e = ParamFile::read(&write(&dir, "bad.toml", &text)).unwrap_err();
+        let e = ParamFile::read(&write(&dir, "bad.toml", &text))
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("bad.toml") && e.contains(want),
             "want '{want}' in '{e}'"
@@ -139,7 +141,9 @@ fn bad_parameter_files_are_refused_with_the_field() {
 fn bad_identification_data_is_refused() {
     // a sweep without x_ref cannot be cut into constant-velocity legs
     let rec = Record::parse("t,x,force\n0,0,1\n0.001,0,1\n", Path::new("s.csv")).unwrap();
-    let e = identify::steady_points_from_record(&rec, 200.0, "s.csv").unwrap_err();
+    let e = identify::steady_points_from_record(&rec, 200.0, "s.csv")
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("s.csv") && e.contains("x_ref"), "{e}");
     // a sweep with x_ref but too few legs
     let mut text = String::from("t,x,force,x_ref\n");
@@ -153,10 +157,14 @@ fn bad_identification_data_is_refused() {
         );
     }
     let rec = Record::parse(&text, Path::new("s.csv")).unwrap();
-    let e = identify::steady_points_from_record(&rec, 200.0, "s.csv").unwrap_err();
+    let e = identify::steady_points_from_record(&rec, 200.0, "s.csv")
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("need 6 or more"), "{e}");
     // a dynamic record without motion
     let rec = Record::parse(&text, Path::new("d.csv")).unwrap();
-    let e = identify::dynamic_from_record(&rec, 200.0).unwrap_err();
+    let e = identify::dynamic_from_record(&rec, 200.0, "d.csv")
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("no motion"), "{e}");
 }

@@ -7,6 +7,7 @@ use super::feedforward::{observer_weight, Feedforward};
 use super::observer::Observer;
 use super::position::{Cascade, CascadeConfig};
 use super::refine::{RefineConfig, Refiner};
+use crate::axis::AxisGeometry;
 use crate::friction::{Conditions, FrictionModel, LugreParams};
 
 /// Which compensation parts run (the benchmark's configurations).
@@ -63,6 +64,10 @@ pub struct ControllerConfig {
     pub stroke_m: [f32; 2],
     /// Pressure transducer range [Pa].
     pub pressure_range_pa: [f32; 2],
+    /// Largest reference speed the axis may be asked for [m/s] (beyond: a fault).
+    pub max_speed_m_per_s: f32,
+    /// Largest reference acceleration [m/s^2] (beyond: a fault).
+    pub max_acceleration_m_per_s2: f32,
     /// Cascade gains.
     pub cascade: CascadeConfig,
     /// Observer correction gain k [1/s].
@@ -82,20 +87,34 @@ pub struct ControllerConfig {
 }
 
 impl ControllerConfig {
-    /// Defaults for the host simulator's axis (50/28 mm cylinder, 200 kg, 210 bar) with the
-    /// given model.
+    /// Defaults for the host simulator's axis ([`AxisGeometry::SIMULATED`]: 50/28 mm cylinder,
+    /// 200 kg, 210 bar) with the given model.
     pub fn for_simulated_axis(model: FrictionModel<f32>, features: Features) -> Self {
+        Self::for_axis(&AxisGeometry::SIMULATED, model, features)
+    }
+
+    /// Defaults for an axis of the given geometry: its mass and areas, its stroke with a 2 %
+    /// margin each side before a position is a fault. The position-loop gains were tuned on
+    /// [`AxisGeometry::SIMULATED`] and scale with the mass (the same closed-loop bandwidth
+    /// `sqrt(K / M)`); the force-loop gains and the valve settings are the simulated axis's.
+    pub fn for_axis(axis: &AxisGeometry, model: FrictionModel<f32>, features: Features) -> Self {
+        let m = (axis.moving_mass_kg / AxisGeometry::SIMULATED.moving_mass_kg) as f32;
+        let margin = 0.02 * axis.stroke_m;
         Self {
             model,
-            mass_kg: 200.0,
-            piston_area_m2: 1.963_495e-3,
-            annulus_area_m2: 1.347_743e-3,
-            stroke_m: [-0.01, 0.51],
+            mass_kg: axis.moving_mass_kg as f32,
+            piston_area_m2: axis.piston_area_m2() as f32,
+            annulus_area_m2: axis.annulus_area_m2() as f32,
+            stroke_m: [-margin as f32, (axis.stroke_m + margin) as f32],
             pressure_range_pa: [-1e5, 300e5],
+            // the valve's full opening moves the simulated axis at ~0.6 m/s; a reference twice
+            // that, or 10 g, is a setpoint generator gone wrong
+            max_speed_m_per_s: 1.2,
+            max_acceleration_m_per_s2: 100.0,
             cascade: CascadeConfig {
-                position_gain: 2.0e6,
-                velocity_gain: 2.0e4,
-                position_integral_gain: 2.0e7,
+                position_gain: 2.0e6 * m,
+                velocity_gain: 2.0e4 * m,
+                position_integral_gain: 2.0e7 * m,
                 force_gain: 1.0e-5,
                 force_integral_gain: 2.0e-4,
                 full_opening_speed: 0.6,
@@ -218,6 +237,13 @@ impl Controller {
         let [lo, hi] = self.config.stroke_m;
         if m.position_m < lo || m.position_m > hi {
             f.insert(Faults::POSITION_RANGE);
+        }
+        if r.position_m < lo
+            || r.position_m > hi
+            || r.velocity_m_per_s.abs() > self.config.max_speed_m_per_s
+            || r.acceleration_m_per_s2.abs() > self.config.max_acceleration_m_per_s2
+        {
+            f.insert(Faults::REFERENCE_RANGE);
         }
         let [plo, phi] = self.config.pressure_range_pa;
         let bad = |p: f32| p < plo || p > phi;
@@ -354,8 +380,9 @@ impl Controller {
             self.stuck_ticks = 0;
         }
         self.last_position = m.position_m;
-        if self.stuck_ticks > 300 || !co.command.is_finite() {
-            out.faults.insert(if co.command.is_finite() {
+        let finite = co.command.is_finite() && co.force_demand.is_finite();
+        if self.stuck_ticks > 300 || !finite {
+            out.faults.insert(if finite {
                 Faults::STUCK_ENCODER
             } else {
                 Faults::NON_FINITE
@@ -364,6 +391,7 @@ impl Controller {
             self.stuck_ticks = 0;
             self.enter_safe();
             out.safe = true;
+            out.force_demand_n = 0.0;
             return out;
         }
         out.valve_command = co.command;

@@ -23,8 +23,11 @@ impl Faults {
     pub const OBSERVER_DIVERGED: Faults = Faults(16);
     /// The online refinement diverged and was reset to the identified parameters.
     pub const REFINEMENT_RESET: Faults = Faults(32);
+    /// The reference leaves the axis's stroke, speed or acceleration limits: a setpoint
+    /// generator gone wrong must not drive the valve.
+    pub const REFERENCE_RANGE: Faults = Faults(64);
     /// Faults that force the safe valve command.
-    pub const SAFE_STATE: Faults = Faults(1 | 2 | 4 | 8);
+    pub const SAFE_STATE: Faults = Faults(1 | 2 | 4 | 8 | 64);
 
     /// True if any flag of `other` is set.
     pub fn contains(self, other: Faults) -> bool {

@@ -3,7 +3,16 @@
 use host_sim::diagnose::{self, inverse::AxisModel, Options};
 use host_sim::experiments::{self, SteadyPoint};
 use host_sim::plant::{PlantConfig, SensorConfig};
-use std::path::Path;
+use host_sim::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// Options of `demo`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Output folder for CSVs, parameter files and reports.
+    #[arg(long, default_value = "demo-out")]
+    out: PathBuf,
+}
 
 fn print_curve(points: &[SteadyPoint], cfg: &PlantConfig) {
     let model = &cfg.friction;
@@ -24,15 +33,16 @@ fn print_curve(points: &[SteadyPoint], cfg: &PlantConfig) {
     }
 }
 
-/// Runs the demo into `out`.
-pub fn run(out: &Path) -> Result<(), String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+/// Runs the demo into `--out`.
+pub fn run(a: &Args) -> Result<()> {
+    let out = a.out.as_path();
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let cfg = PlantConfig::default();
     let cyl = &cfg.cylinder;
     println!("== 1. The plant: electro-hydraulic position axis (Table 2 friction) ==");
     println!(
         "  cylinder {:.0} mm bore, {:.0} mm stroke, {} kg moving mass, supply {:.0} bar, valve {:.0} L/min @ {:.0} bar, {} Hz spool",
-        (4.0 * cyl.piston_area_m2 / std::f64::consts::PI).sqrt() * 1e3,
+        lugre_servo::axis::AxisGeometry::SIMULATED.bore_m * 1e3,
         cyl.stroke_m * 1e3,
         cyl.moving_mass_kg,
         cfg.valve.supply_pressure_pa / 1e5,
@@ -69,8 +79,7 @@ pub fn run(out: &Path) -> Result<(), String> {
         ("trapezoid", &trap),
     ] {
         let path = out.join(format!("{name}.csv"));
-        rec.write(&path)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        rec.write(&path).map_err(|e| Error::io(&path, e))?;
         println!("  wrote {}", path.display());
     }
     let lo = ramp.x.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -91,7 +100,7 @@ pub fn run(out: &Path) -> Result<(), String> {
 }
 
 /// Chapter: the paper's identification, improved GA against CMA-ES, on the ideal experiments.
-fn identification_chapter(out: &Path) -> Result<(), String> {
+fn identification_chapter(out: &Path) -> Result<()> {
     use host_sim::identify::{self, Algorithm};
     println!("\n== Identification (the paper's setting: noise-free experiments, Table 2 truth) ==");
     let truth = lugre_servo::friction::LugreParams::table2();
@@ -119,7 +128,7 @@ fn identification_chapter(out: &Path) -> Result<(), String> {
     println!(
         "  The 0.1 um encoder limits sigma0 (a reversal's pre-sliding travel is ~0.3 um); sigma1's\n  force (< 0.1 N at 1 kHz) is far below the pressure noise: see README, Identification."
     );
-    let params = identify::params_of(&runs[0]).ok_or("identified set invalid")?;
+    let params = identify::params_of(&runs[0]).ok_or(Error::InvalidIdentifiedSet)?;
     super::identify::write_params(
         &params,
         200.0,
@@ -130,25 +139,24 @@ fn identification_chapter(out: &Path) -> Result<(), String> {
 }
 
 /// Chapter: the 1 kHz controller (the firmware's code, f32) on the simulated axis.
-fn closed_loop_chapter(out: &Path) -> Result<(), String> {
+fn closed_loop_chapter(out: &Path) -> Result<()> {
     println!("\n== Closed loop: the firmware's controller against the simulated axis ==");
     let plot = out.join("tracking.svg");
     let json = out.join("track.json");
-    super::track::run(Some(&json), Some(&plot), 1)?;
+    super::track::benchmark(Some(&json), Some(&plot), 1)?;
     println!("  (the same controller runs on the STM32F405 in QEMU: see firmware/ and .ci/run)");
     Ok(())
 }
 
 /// Chapter: a record with a hidden effect, diagnosed without being told which.
-fn diagnosis_chapter(out: &Path) -> Result<(), String> {
+fn diagnosis_chapter(out: &Path) -> Result<()> {
     println!("\n== Diagnosis: a cylinder with a hidden effect ==");
     let mut cfg = PlantConfig::default();
     // the hidden effect: pressure-energised seals (the diagnosis is not told)
     host_sim::scenarios::with_effect(&mut cfg, "load_dependence", 0.6)?;
     let rec = host_sim::scenarios::diagnosis_run(&cfg, SensorConfig::realistic(7), 40.0);
     let path = out.join("hidden.csv");
-    rec.write(&path)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    rec.write(&path).map_err(|e| Error::io(&path, e))?;
     println!(
         "  recorded 40 s of moves and dwells on a rig whose friction hides an effect -> {}",
         path.display()
@@ -205,8 +213,8 @@ fn diagnosis_chapter(out: &Path) -> Result<(), String> {
     let next = after.candidates.iter().filter(|c| c.significant).count();
     println!("     significant effects left: {next}");
     let report = out.join("diagnosis.html");
-    std::fs::write(&report, host_sim::diagnose::report::html(&d, &name, None))
-        .map_err(|e| format!("{}: {e}", report.display()))?;
+    std::fs::write(&report, diagnose::report::html(&d, &name, None))
+        .map_err(|e| Error::io(&report, e))?;
     super::diagnose::write_params(&d, &out.join("extended.toml"), None)?;
     println!("  5. report: {}", report.display());
     println!("     (the hidden effect was load_dependence)");

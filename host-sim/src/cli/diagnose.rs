@@ -1,11 +1,50 @@
 //! `host-sim diagnose`.
 
-use crate::DiagnoseArgs;
 use host_sim::diagnose::{self, inverse::AxisModel, Diagnosis, Options};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
+use host_sim::{Error, Result};
 use serde::Serialize;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Options of `diagnose`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The measured record (CSV). Give it several times (or a folder of CSVs) for records of
+    /// one axis under different conditions: friction levels against pressure, temperature
+    /// and numeric `# key=value` metadata, across records.
+    #[arg(long, required = true)]
+    data: Vec<PathBuf>,
+    /// A parameter file: mass and friction are used as given for the comparison.
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Moving mass [kg] (identified from the record when neither this nor --params is given).
+    #[arg(long)]
+    mass: Option<f64>,
+    /// Effects to add to the model, in order (comma separated).
+    #[arg(long, value_delimiter = ',')]
+    add: Vec<String>,
+    /// Then add the suggested effects: the first significant candidate, again and again,
+    /// until none is significant (at most three).
+    #[arg(long)]
+    auto: bool,
+    /// Another record to test the fitted model on (no refit).
+    #[arg(long)]
+    validate: Option<PathBuf>,
+    /// Writes a self-contained HTML report.
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// Writes the results as JSON.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Writes the final (extended) model as a parameter file.
+    #[arg(long)]
+    out_params: Option<PathBuf>,
+    /// The true model of a simulated record (`simulate` writes FILE.truth.toml beside the CSV):
+    /// gives the noise floor.
+    #[arg(long)]
+    truth: Option<PathBuf>,
+}
 
 /// The scripting contract of `--json`.
 #[derive(Serialize)]
@@ -35,12 +74,12 @@ pub struct JsonOut<'a> {
 }
 
 /// Runs the subcommand.
-pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
+pub fn run(a: &Args) -> Result<()> {
     let files = expand(&a.data)?;
     if files.len() > 1 {
         return run_across(a, &files);
     }
-    let rec = Record::read(&files[0]).map_err(|e| e.to_string())?;
+    let rec = Record::read(&files[0])?;
     let name = files[0].display().to_string();
     let given = match &a.params {
         Some(p) => {
@@ -54,9 +93,10 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
     };
     if let Some(m) = a.mass {
         if !(m.is_finite() && m > 0.0) {
-            return Err(format!(
-                "--mass must be a positive number of kilograms, got {m}"
-            ));
+            return Err(Error::Argument {
+                flag: "--mass",
+                problem: format!("must be a positive number of kilograms, got {m}"),
+            });
         }
     }
     let truth = match &a.truth {
@@ -81,7 +121,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
     let d = diagnose::diagnose(&rec, &name, &opts)?;
     let validation = match &a.validate {
         Some(v) => {
-            let other = Record::read(v).map_err(|e| e.to_string())?;
+            let other = Record::read(v)?;
             Some(diagnose::validate(
                 d.model(),
                 &other,
@@ -109,34 +149,30 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
                 .collect(),
             regimes: &last.regimes,
         };
-        let text = serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?;
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
-        println!("wrote {}", path.display());
+        super::write_json(path, &out)?;
     }
     if let Some(path) = &a.out_params {
         write_params(&d, path, a.mass)?;
     }
     if let Some(path) = &a.report {
-        let html = host_sim::diagnose::report::html(&d, &name, validation);
-        std::fs::write(path, html).map_err(|e| format!("{}: {e}", path.display()))?;
-        println!("wrote {}", path.display());
+        super::write_text(path, &diagnose::report::html(&d, &name, validation))?;
     }
     Ok(())
 }
 
 /// The record files: each `--data` file, and the CSVs in each `--data` folder (sorted).
-fn expand(data: &[std::path::PathBuf]) -> Result<Vec<std::path::PathBuf>, String> {
+fn expand(data: &[PathBuf]) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     for d in data {
         if d.is_dir() {
-            let mut v: Vec<std::path::PathBuf> = std::fs::read_dir(d)
-                .map_err(|e| format!("{}: {e}", d.display()))?
+            let mut v: Vec<PathBuf> = std::fs::read_dir(d)
+                .map_err(|e| Error::io(d, e))?
                 .filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| p.extension().is_some_and(|x| x == "csv"))
                 .collect();
             v.sort();
             if v.is_empty() {
-                return Err(format!("{}: no .csv records in this folder", d.display()));
+                return Err(Error::NoRecordsInFolder(d.clone()));
             }
             out.extend(v);
         } else {
@@ -148,14 +184,10 @@ fn expand(data: &[std::path::PathBuf]) -> Result<Vec<std::path::PathBuf>, String
 
 /// Several records of one axis: friction levels against the conditions (see
 /// [`diagnose::across`]).
-fn run_across(a: &DiagnoseArgs, files: &[std::path::PathBuf]) -> Result<(), String> {
+fn run_across(a: &Args, files: &[PathBuf]) -> Result<()> {
     let records: Vec<(String, Record)> = files
         .iter()
-        .map(|f| {
-            Record::read(f)
-                .map(|r| (f.display().to_string(), r))
-                .map_err(|e| e.to_string())
-        })
+        .map(|f| Record::read(f).map(|r| (f.display().to_string(), r)))
         .collect::<Result<_, _>>()?;
     let opts = Options {
         mass_kg: a.mass,
@@ -192,18 +224,18 @@ fn run_across(a: &DiagnoseArgs, files: &[std::path::PathBuf]) -> Result<(), Stri
     }
     println!("({:.2} s)", wall.elapsed().as_secs_f64());
     if let Some(path) = &a.json {
-        let text = serde_json::to_string_pretty(&across).map_err(|e| e.to_string())?;
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
-        println!("wrote {}", path.display());
+        super::write_json(path, &across)?;
     }
     Ok(())
 }
 
 /// Writes the final model as a parameter file (see [`diagnose::parameter_file`]): refused,
 /// with the reason and nothing written, when a value would be non-physical for a controller.
-pub fn write_params(d: &Diagnosis, path: &Path, user_mass: Option<f64>) -> Result<(), String> {
-    let file = diagnose::parameter_file(d, user_mass)
-        .map_err(|e| format!("{}: not written: {e}", path.display()))?;
+pub fn write_params(d: &Diagnosis, path: &Path, user_mass: Option<f64>) -> Result<()> {
+    let file = diagnose::parameter_file(d, user_mass).map_err(|e| Error::NotWritten {
+        path: path.to_path_buf(),
+        source: Box::new(e),
+    })?;
     file.write_checked(path)?;
     println!("wrote {}", path.display());
     Ok(())

@@ -5,43 +5,79 @@ use host_sim::params_file::ParamFile;
 use host_sim::plant::PlantConfig;
 use host_sim::record::Record;
 use host_sim::stats::median;
+use host_sim::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use lugre_servo::friction::{FrictionModel, LugreParams};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
+use super::Noise;
+
 /// Options of `identify`.
+#[derive(clap::Args)]
 pub struct Args {
-    /// Algorithm for a single run.
-    pub algorithm: Algorithm,
-    /// ideal or realistic.
-    pub realistic: bool,
-    /// Seed of a single run.
-    pub seed: u64,
-    /// Measured sweep record.
-    pub sweep: Option<PathBuf>,
-    /// Measured dynamic record.
-    pub dynamic: Option<PathBuf>,
-    /// Moving mass [kg] for measured records.
-    pub mass: f64,
-    /// Output parameter file.
-    pub out: PathBuf,
-    /// Benchmark mode: seeds 1..=N.
-    pub bench_seeds: Option<u64>,
-    /// Benchmark JSON.
-    pub json: Option<PathBuf>,
+    /// Algorithm (single run).
+    #[arg(long, value_enum, default_value = "improved")]
+    algorithm: Alg,
+    /// Sensor setting for simulated data.
+    #[arg(long, value_enum, default_value = "ideal")]
+    noise: Noise,
+    /// Seed (single run).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Measured constant-velocity sweep (CSV with x_ref) instead of simulated data.
+    #[arg(long)]
+    sweep: Option<PathBuf>,
+    /// Measured dynamic record (CSV) instead of simulated data.
+    #[arg(long)]
+    dynamic: Option<PathBuf>,
+    /// Moving mass [kg] (measured data).
+    #[arg(long, default_value_t = 200.0)]
+    mass: f64,
+    /// Parameter file to write.
+    #[arg(long, default_value = "identified.toml")]
+    out: PathBuf,
+    /// Benchmark every algorithm for seeds 1..=N.
+    #[arg(long)]
+    bench: bool,
+    /// Number of seeds of the benchmark.
+    #[arg(long, default_value_t = 20)]
+    seeds: u64,
+    /// Benchmark results as JSON.
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
 
-fn data(a: &Args, seed: u64) -> Result<(IdentData, Option<LugreParams<f64>>, String), String> {
+/// The algorithms, as typed on the command line.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Alg {
+    Traditional,
+    Adaptive,
+    Improved,
+    Cmaes,
+}
+
+impl From<Alg> for Algorithm {
+    fn from(a: Alg) -> Self {
+        match a {
+            Alg::Traditional => Algorithm::Traditional,
+            Alg::Adaptive => Algorithm::Adaptive,
+            Alg::Improved => Algorithm::Improved,
+            Alg::Cmaes => Algorithm::Cmaes,
+        }
+    }
+}
+
+fn data(a: &Args, seed: u64) -> Result<(IdentData, Option<LugreParams<f64>>, String)> {
     match (&a.sweep, &a.dynamic) {
         (Some(s), Some(d)) => {
-            let sweep = Record::read(s).map_err(|e| e.to_string())?;
-            let dynamic = Record::read(d).map_err(|e| e.to_string())?;
+            let sweep = Record::read(s)?;
+            let dynamic = Record::read(d)?;
             let points =
                 identify::steady_points_from_record(&sweep, a.mass, &s.display().to_string())?;
-            let mut data = identify::dynamic_from_record(&dynamic, a.mass)
-                .map_err(|e| e.replace("dynamic record", &d.display().to_string()))?;
+            let mut data =
+                identify::dynamic_from_record(&dynamic, a.mass, &d.display().to_string())?;
             data.points = points;
             Ok((
                 data,
@@ -51,7 +87,7 @@ fn data(a: &Args, seed: u64) -> Result<(IdentData, Option<LugreParams<f64>>, Str
         }
         (None, None) => {
             let truth = LugreParams::table2();
-            if a.realistic {
+            if a.noise == Noise::Realistic {
                 Ok((
                     identify::realistic_data(&PlantConfig::default(), seed),
                     Some(truth),
@@ -61,7 +97,9 @@ fn data(a: &Args, seed: u64) -> Result<(IdentData, Option<LugreParams<f64>>, Str
                 Ok((identify::ideal_data(&truth), Some(truth), "ideal".into()))
             }
         }
-        _ => Err("give both --sweep FILE and --dynamic FILE, or neither (simulated data)".into()),
+        _ => Err(Error::Usage(
+            "give both --sweep FILE and --dynamic FILE, or neither (simulated data)",
+        )),
     }
 }
 
@@ -102,17 +140,18 @@ struct Bench<'a> {
 }
 
 /// Runs the subcommand.
-pub fn run(a: &Args) -> Result<(), String> {
-    if let Some(n) = a.bench_seeds {
-        return bench(a, n);
+pub fn run(a: &Args) -> Result<()> {
+    if a.bench {
+        return bench(a, a.seeds);
     }
+    let algorithm = Algorithm::from(a.algorithm);
     let (data, truth, setting) = data(a, a.seed)?;
     println!(
         "identifying ({setting}) with the {} algorithm, seed {}",
-        a.algorithm.name(),
+        algorithm.name(),
         a.seed
     );
-    let r = identify::identify(a.algorithm, &data, a.seed, truth.as_ref());
+    let r = identify::identify(algorithm, &data, a.seed, truth.as_ref());
     print_table(&[&r], truth.as_ref());
     println!(
         "  costs: static {:.3e}, dynamic {:.3e}; {} evaluations, {:.2} s",
@@ -125,8 +164,7 @@ pub fn run(a: &Args) -> Result<(), String> {
             r.at_bound.join(", ")
         );
     }
-    let params =
-        identify::params_of(&r).ok_or("the identified set is not a valid parameter set")?;
+    let params = identify::params_of(&r).ok_or(Error::InvalidIdentifiedSet)?;
     if let Some(w) = params.warning() {
         println!("  warning: {w}");
     }
@@ -167,7 +205,7 @@ pub fn write_params(
     r: &RunResult,
     source: &str,
     out: &Path,
-) -> Result<(), String> {
+) -> Result<()> {
     let mut file = ParamFile::new(&FrictionModel::plain(*params), mass);
     file.fit.algorithm = Some(r.algorithm.name().into());
     file.fit.static_fitness = Some(r.costs.0);
@@ -184,9 +222,12 @@ pub fn write_params(
     Ok(())
 }
 
-fn bench(a: &Args, seeds: u64) -> Result<(), String> {
+fn bench(a: &Args, seeds: u64) -> Result<()> {
     let wall = std::time::Instant::now();
-    let setting = if a.realistic { "realistic" } else { "ideal" };
+    let setting = match a.noise {
+        Noise::Realistic => "realistic",
+        Noise::Ideal => "ideal",
+    };
     // one data set per seed (realistic: the sensor noise differs per seed)
     let sets: Vec<(u64, IdentData, Option<LugreParams<f64>>)> = (1..=seeds)
         .into_par_iter()
@@ -194,7 +235,7 @@ fn bench(a: &Args, seeds: u64) -> Result<(), String> {
             let (d, t, _) = data(a, s)?;
             Ok((s, d, t))
         })
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_>>()?;
     let jobs: Vec<(Algorithm, usize)> = Algorithm::ALL
         .iter()
         .flat_map(|&alg| (0..sets.len()).map(move |i| (alg, i)))
@@ -218,13 +259,13 @@ fn bench(a: &Args, seeds: u64) -> Result<(), String> {
         .collect();
     bar.finish_and_clear();
     if let Some(path) = &a.json {
-        let text = serde_json::to_string_pretty(&Bench {
-            setting,
-            runs: &runs,
-        })
-        .map_err(|e| e.to_string())?;
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
-        println!("wrote {}", path.display());
+        super::write_json(
+            path,
+            &Bench {
+                setting,
+                runs: &runs,
+            },
+        )?;
     }
     println!(
         "setting {setting}, seeds 1..={seeds}, {} runs in {:.1} s",

@@ -1,8 +1,9 @@
 //! `host-sim track`.
 
+use host_sim::chart::{self, Frame, Line};
 use host_sim::track::{self, Tracking};
-use plotters::prelude::*;
-use std::path::Path;
+use host_sim::Result;
+use std::path::{Path, PathBuf};
 
 fn row(name: &str, t: &Tracking, reference: Option<&Tracking>) {
     let rel = reference.map_or(String::new(), |r| {
@@ -21,54 +22,60 @@ fn row(name: &str, t: &Tracking, reference: Option<&Tracking>) {
     );
 }
 
-/// Writes the low-speed error plot.
-pub fn plot(path: &Path, pid: &[(f64, f64)], full: &[(f64, f64)]) -> Result<(), String> {
-    let root = SVGBackend::new(path, (900, 320)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| e.to_string())?;
+/// The low-speed error plot (SVG).
+fn plot(pid: &[(f64, f64)], full: &[(f64, f64)]) -> Result<String> {
+    let um = |d: &[(f64, f64)]| d.iter().step_by(5).map(|(t, e)| (*t, e * 1e6)).collect();
     let ymax = pid
         .iter()
         .chain(full)
         .map(|(_, e)| e.abs() * 1e6)
         .fold(1.0f64, f64::max)
         * 1.05;
-    let tmax = pid.last().map_or(1.0, |p| p.0);
-    let mut c = ChartBuilder::on(&root)
-        .caption(
-            "Low-speed tracking error (2 mm, 0.2 Hz sinusoid)",
-            ("sans-serif", 18),
-        )
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..tmax, -ymax..ymax)
-        .map_err(|e| e.to_string())?;
-    c.configure_mesh()
-        .x_desc("time [s]")
-        .y_desc("x_ref - x [um]")
-        .draw()
-        .map_err(|e| e.to_string())?;
-    for (data, color, label) in [
-        (pid, RGBColor(214, 96, 77), "plain cascade (pid)"),
-        (full, RGBColor(33, 102, 172), "full controller"),
-    ] {
-        c.draw_series(LineSeries::new(
-            data.iter().step_by(5).map(|(t, e)| (*t, e * 1e6)),
-            color,
-        ))
-        .map_err(|e| e.to_string())?
-        .label(label)
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
-    }
-    c.configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| e.to_string())?;
-    root.present().map_err(|e| e.to_string())
+    chart::lines(
+        320,
+        &Frame {
+            title: "Low-speed tracking error (2 mm, 0.2 Hz sinusoid)",
+            x_desc: "time [s]",
+            y_desc: "x_ref - x [um]",
+            x: (0.0, pid.last().map_or(1.0, |p| p.0)),
+            y: (-ymax, ymax),
+        },
+        &[
+            Line {
+                label: "plain cascade (pid)",
+                color: chart::FIRST_MODEL,
+                points: um(pid),
+            },
+            Line {
+                label: "full controller",
+                color: chart::FINAL_MODEL,
+                points: um(full),
+            },
+        ],
+    )
 }
 
-/// Runs the benchmark.
-pub fn run(json: Option<&Path>, plot_path: Option<&Path>, seed: u64) -> Result<(), String> {
+/// Options of `track`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Writes the results as JSON.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Writes an SVG plot of the low-speed tracking error.
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    /// Sensor noise seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
+/// Runs the subcommand.
+pub fn run(a: &Args) -> Result<()> {
+    benchmark(a.json.as_deref(), a.plot.as_deref(), a.seed)
+}
+
+/// Runs the benchmark, writes the JSON and the plot where asked.
+pub fn benchmark(json: Option<&Path>, plot_path: Option<&Path>, seed: u64) -> Result<()> {
     let wall = std::time::Instant::now();
     let (r, pid, full) = track::benchmark(seed);
     println!("low_speed (2 mm, 0.2 Hz: peak 2.5 mm/s, Stribeck region; realistic sensors):");
@@ -92,16 +99,10 @@ pub fn run(json: Option<&Path>, plot_path: Option<&Path>, seed: u64) -> Result<(
     );
     println!("({:.1} s)", wall.elapsed().as_secs_f64());
     if let Some(p) = json {
-        std::fs::write(
-            p,
-            serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?,
-        )
-        .map_err(|e| format!("{}: {e}", p.display()))?;
-        println!("wrote {}", p.display());
+        super::write_json(p, &r)?;
     }
     if let Some(p) = plot_path {
-        plot(p, &pid, &full)?;
-        println!("wrote {}", p.display());
+        super::write_text(p, &plot(&pid, &full)?)?;
     }
     Ok(())
 }

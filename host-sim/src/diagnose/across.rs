@@ -28,6 +28,7 @@
 use super::fit::{self, Param};
 use super::inverse::{AxisModel, Prepared};
 use super::{baseline, fit::add_effect, Options};
+use crate::error::{Error, Result};
 use crate::record::Record;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -134,7 +135,7 @@ pub struct Across {
 const LEVELS: [Param; 2] = [Param::Coulomb, Param::Viscous];
 
 /// Fits one record: baseline, plus an offset, levels with block-jackknife errors.
-pub fn record_levels(rec: &Record, name: &str, opts: &Options) -> Result<RecordLevels, String> {
+pub fn record_levels(rec: &Record, name: &str, opts: &Options) -> Result<RecordLevels> {
     let p = Prepared::new(rec, name, opts.protocol)?;
     let n_eff = fit::effective_samples(&p, opts.protocol.parallel_cutoff_hz);
     let f = fit_with_offset(&p, opts, n_eff);
@@ -213,12 +214,9 @@ fn fit_with_offset(p: &Prepared, opts: &Options, n_eff: f64) -> fit::Fit {
 }
 
 /// Analyses records of one axis taken under different conditions.
-pub fn analyse(records: &[(String, Record)], opts: &Options) -> Result<Across, String> {
+pub fn analyse(records: &[(String, Record)], opts: &Options) -> Result<Across> {
     if records.len() < 3 {
-        return Err(format!(
-            "diagnosis across records needs at least 3 records, got {}",
-            records.len()
-        ));
+        return Err(Error::TooFewRecords(records.len()));
     }
     let levels: Vec<RecordLevels> = records
         .iter()

@@ -8,6 +8,7 @@
 //! the same band. The relative force error is `100 ||F - F_hat|| / ||F||` on those columns.
 
 use super::filter::LowPass;
+use crate::error::{DataProblem, Error, Result};
 use crate::record::Record;
 use lugre_servo::friction::{Conditions, FrictionModel, FrictionState};
 
@@ -87,13 +88,17 @@ impl Prepared {
     /// Prepares a record; refuses records that are too short or without motion, naming the
     /// file. Irregular logger timing is repaired first (see [`crate::timing`]): the record is
     /// resampled onto a uniform grid and split at logger gaps, and [`Self::notes`] says so.
-    pub fn new(rec: &Record, name: &str, protocol: Protocol) -> Result<Self, String> {
+    pub fn new(rec: &Record, name: &str, protocol: Protocol) -> Result<Self> {
         let uniform = crate::timing::uniform(rec, name)?;
         let rec = &uniform.record;
         let n = rec.len();
         if n < MIN_SAMPLES {
-            return Err(format!(
-                "{name}: record too short for diagnosis: {n} samples, need at least {MIN_SAMPLES}"
+            return Err(Error::data(
+                name,
+                DataProblem::TooShort {
+                    samples: n,
+                    needed: MIN_SAMPLES,
+                },
             ));
         }
         let dt = uniform.period_s;
@@ -120,9 +125,13 @@ impl Prepared {
             - x.iter().cloned().fold(f64::INFINITY, f64::min);
         let moving = v.iter().filter(|s| s.abs() > 1e-4).count();
         if stroke < 1e-5 || moving < n / 50 {
-            return Err(format!(
-                "{name}: no motion to diagnose: the position spans {:.3e} m and the axis moves faster than 0.1 mm/s in {moving} of {n} samples",
-                stroke
+            return Err(Error::data(
+                name,
+                DataProblem::NoMotion {
+                    stroke_m: stroke,
+                    moving,
+                    samples: n,
+                },
             ));
         }
         let force = by_segment(&parallel, &rec.force);
@@ -146,9 +155,7 @@ impl Prepared {
             .sqrt();
         let force_norm_all = force.iter().map(|f| f * f).sum::<f64>().sqrt();
         if force_norm <= 0.0 {
-            return Err(format!(
-                "{name}: the force column is zero wherever the axis moves"
-            ));
+            return Err(Error::data(name, DataProblem::ZeroForce));
         }
         // the load signal: both chambers' sum, or the one chamber a single-acting cylinder has
         let pressure = match (&rec.p_a, &rec.p_b) {

@@ -24,6 +24,7 @@ pub mod regimes;
 pub mod report;
 pub mod static_table;
 
+use crate::error::{DataProblem, Error, Result};
 use crate::record::Record;
 use fit::{Fit, Param};
 use inverse::{AxisModel, Prepared, Protocol};
@@ -138,13 +139,8 @@ pub fn effect_info(kind: EffectKind) -> &'static EffectInfo {
 }
 
 /// The effect a user named; an unknown name is an error naming it and listing the known ones.
-pub fn parse_effect(name: &str) -> Result<EffectKind, String> {
-    EffectKind::parse(name).map_err(|_| {
-        format!(
-            "unknown effect '{name}'; known: {}",
-            EffectKind::ALL.map(EffectKind::name).join(", ")
-        )
-    })
+pub fn parse_effect(name: &str) -> Result<EffectKind> {
+    EffectKind::parse(name).map_err(|_| Error::UnknownEffect(name.to_string()))
 }
 
 /// Why an effect cannot be tested on this record, if it cannot.
@@ -817,7 +813,7 @@ fn nonlinear_value(m: &AxisModel, effect: EffectKind) -> Option<f64> {
 }
 
 /// Runs the whole diagnosis of a record.
-pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, String> {
+pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     let p = Prepared::new(rec, name, opts.protocol)?;
     let add: Vec<EffectKind> = opts
         .add
@@ -826,7 +822,10 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
         .collect::<Result<_, _>>()?;
     for e in &add {
         if let Some(why) = missing_channel(*e, &p) {
-            return Err(format!("{name}: cannot add '{e}': {why}"));
+            return Err(Error::data(
+                name,
+                DataProblem::MissingChannel { effect: *e, why },
+            ));
         }
     }
     let n_eff = fit::effective_samples(&p, opts.protocol.parallel_cutoff_hz);
@@ -855,7 +854,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis, S
             .iter()
             .find(|c| c.kind == e)
             .and_then(|c| c.fit.clone())
-            .ok_or_else(|| format!("effect '{e}' is already in the model"))?;
+            .ok_or(Error::EffectAlreadyInModel(e))?;
         let fit = if opts.given.is_some() {
             fit
         } else {
@@ -919,14 +918,12 @@ fn stage(
 pub fn parameter_file(
     d: &Diagnosis,
     user_mass: Option<f64>,
-) -> Result<crate::params_file::ParamFile, String> {
+) -> Result<crate::params_file::ParamFile> {
     let m = d.model();
     let last = &d.stages[d.stages.len() - 1].fit;
     let priors: Vec<String> = last.flags.priors.iter().map(|q| q.0.to_string()).collect();
     if priors.iter().any(|p| p == Param::Mass.label()) && user_mass.is_none() {
-        return Err(
-            "the record does not determine the moving mass (its 95 % interval includes 0 kg); a controller needs it: give --mass KG".into(),
-        );
+        return Err(Error::MassNotDetermined);
     }
     let mut file = crate::params_file::ParamFile::new(&m.friction, user_mass.unwrap_or(m.mass_kg));
     file.fit.source = Some("host-sim diagnose".into());
@@ -943,12 +940,7 @@ pub fn parameter_file(
 }
 
 /// Error of a fitted model on another record (no refit) [%].
-pub fn validate(
-    model: &AxisModel,
-    rec: &Record,
-    name: &str,
-    protocol: Protocol,
-) -> Result<f64, String> {
+pub fn validate(model: &AxisModel, rec: &Record, name: &str, protocol: Protocol) -> Result<f64> {
     let p = Prepared::new(rec, name, protocol)?;
     Ok(p.rel_err_pct(&model.predict(&p)))
 }

@@ -6,15 +6,10 @@
 //! 4. the error after each added effect, against the noise floor.
 
 use super::{Diagnosis, Stage};
-use plotters::prelude::*;
+use crate::chart::{self, Bars, Frame, Line, Panel, FINAL_MODEL, FIRST_MODEL};
+use crate::error::Result;
 
-const W: u32 = 900;
 const H: u32 = 300;
-const MEASURED: RGBColor = RGBColor(40, 40, 40);
-const FIRST: RGBColor = RGBColor(214, 96, 77);
-const FINAL: RGBColor = RGBColor(33, 102, 172);
-const PLUS: RGBColor = RGBColor(27, 120, 55);
-const MINUS: RGBColor = RGBColor(153, 112, 171);
 
 fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -22,192 +17,70 @@ fn escape(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
-fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-        (a.min(x), b.max(x))
-    });
-    if !lo.is_finite() || !hi.is_finite() {
-        return (-1.0, 1.0);
-    }
-    let pad = ((hi - lo) * 0.05).max(1e-9);
-    (lo - pad, hi + pad)
-}
-
-/// Every `step`-th index so a plot holds at most `max` points.
-fn thin(n: usize, max: usize) -> impl Iterator<Item = usize> {
-    let step = n.div_ceil(max).max(1);
-    (0..n).step_by(step)
-}
-
-fn force_over_time(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String, String> {
+fn force_over_time(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String> {
     let p = &d.prepared;
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (W, H)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let (y0, y1) = range(p.force.iter().copied().chain(last.iter().copied()));
-        let t0 = p.t[0];
-        let t1 = p.t[p.len() - 1];
-        let mut c = ChartBuilder::on(&root)
-            .caption("Measured vs model force", ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(65)
-            .build_cartesian_2d(t0..t1, y0..y1)
-            .map_err(|e| e.to_string())?;
-        c.configure_mesh()
-            .x_desc("time [s]")
-            .y_desc("force [N]")
-            .draw()
-            .map_err(|e| e.to_string())?;
-        let idx: Vec<usize> = thin(p.len(), 4000).collect();
-        for (data, color, label) in [
-            (&p.force, MEASURED, "measured"),
-            (&first.to_vec(), FIRST, "first model"),
-            (&last.to_vec(), FINAL, "final model"),
-        ] {
-            c.draw_series(LineSeries::new(
-                idx.iter().map(|&i| (p.t[i], data[i])),
-                color.stroke_width(1),
-            ))
-            .map_err(|e| e.to_string())?
-            .label(label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
-        }
-        c.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
-    }
-    Ok(svg)
+    let idx: Vec<usize> = chart::thin(p.len(), 4000).collect();
+    let line = |label, color, data: &[f64]| Line {
+        label,
+        color,
+        points: idx.iter().map(|&i| (p.t[i], data[i])).collect(),
+    };
+    chart::lines(
+        H,
+        &Frame {
+            title: "Measured vs model force",
+            x_desc: "time [s]",
+            y_desc: "force [N]",
+            x: (p.t[0], p.t[p.len() - 1]),
+            y: chart::range(p.force.iter().chain(last).copied()),
+        },
+        &[
+            line("measured", chart::MEASURED, &p.force),
+            line("first model", FIRST_MODEL, first),
+            line("final model", FINAL_MODEL, last),
+        ],
+    )
 }
 
-fn residual_vs_velocity(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String, String> {
+fn residual_vs_velocity(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String> {
     let p = &d.prepared;
     let r_first: Vec<f64> = p.force.iter().zip(first).map(|(f, q)| f - q).collect();
     let r_last: Vec<f64> = p.force.iter().zip(last).map(|(f, q)| f - q).collect();
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (W, H)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let halves = root.split_evenly((1, 2));
-        let (v0, v1) = range(p.v.iter().map(|v| v * 1e3));
-        let idx: Vec<usize> = thin(p.len(), 3000).filter(|&i| p.weight[i] > 0.0).collect();
-        let (y0, y1) = range(
-            idx.iter()
-                .map(|&i| r_first[i])
-                .chain(idx.iter().map(|&i| r_last[i])),
-        );
-        for (area, r, title) in [
-            (&halves[0], &r_first, "Residual vs velocity: first model"),
-            (&halves[1], &r_last, "Residual vs velocity: final model"),
-        ] {
-            let mut c = ChartBuilder::on(area)
-                .caption(title, ("sans-serif", 15))
-                .margin(8)
-                .x_label_area_size(35)
-                .y_label_area_size(55)
-                .build_cartesian_2d(v0..v1, y0..y1)
-                .map_err(|e| e.to_string())?;
-            c.configure_mesh()
-                .x_desc("velocity [mm/s]")
-                .y_desc("measured - model [N]")
-                .draw()
-                .map_err(|e| e.to_string())?;
-            c.draw_series(idx.iter().map(|&i| {
-                let color = if p.v[i] >= 0.0 { PLUS } else { MINUS };
-                Circle::new((p.v[i] * 1e3, r[i]), 1, color.filled())
-            }))
-            .map_err(|e| e.to_string())?;
-        }
-        root.present().map_err(|e| e.to_string())?;
-    }
-    Ok(svg)
-}
-
-fn bars(
-    title: &str,
-    y_desc: &str,
-    labels: &[String],
-    series: &[(&str, RGBColor, Vec<f64>)],
-    floor: Option<f64>,
-) -> Result<String, String> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (W, H + 60)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let (mut y0, y1) = range(
-            series
-                .iter()
-                .flat_map(|(_, _, v)| v.iter().copied())
-                .chain([0.0])
-                .chain(floor),
-        );
-        if y0 > 0.0 {
-            y0 = 0.0;
-        }
-        let n = labels.len() as f64;
-        let mut c = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(90)
-            .y_label_area_size(65)
-            .build_cartesian_2d(-0.5..(n - 0.5), y0..y1)
-            .map_err(|e| e.to_string())?;
-        let labels_owned = labels.to_vec();
-        c.configure_mesh()
-            .disable_x_mesh()
-            .x_labels(labels.len().max(1))
-            .x_label_formatter(&|x| {
-                let i = x.round();
-                if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < labels_owned.len() {
-                    labels_owned[i as usize].clone()
+    let idx: Vec<usize> = chart::thin(p.len(), 3000)
+        .filter(|&i| p.weight[i] > 0.0)
+        .collect();
+    let x = chart::range(p.v.iter().map(|v| v * 1e3));
+    let y = chart::range(idx.iter().flat_map(|&i| [r_first[i], r_last[i]]));
+    let panel = |title, r: &[f64]| Panel {
+        frame: Frame {
+            title,
+            x_desc: "velocity [mm/s]",
+            y_desc: "measured - model [N]",
+            x,
+            y,
+        },
+        points: idx
+            .iter()
+            .map(|&i| {
+                let color = if p.v[i] >= 0.0 {
+                    chart::PLUS
                 } else {
-                    String::new()
-                }
+                    chart::MINUS
+                };
+                (p.v[i] * 1e3, r[i], color)
             })
-            .x_label_style(
-                ("sans-serif", 11)
-                    .into_font()
-                    .transform(FontTransform::Rotate90),
-            )
-            .y_desc(y_desc)
-            .draw()
-            .map_err(|e| e.to_string())?;
-        let k = series.len() as f64;
-        let w = 0.8 / k;
-        for (j, (name, color, vals)) in series.iter().enumerate() {
-            let color = *color;
-            c.draw_series(vals.iter().enumerate().map(|(i, v)| {
-                let x0 = i as f64 - 0.4 + j as f64 * w;
-                Rectangle::new([(x0, 0.0), (x0 + w * 0.9, *v)], color.filled())
-            }))
-            .map_err(|e| e.to_string())?
-            .label(*name)
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], color.filled()));
-        }
-        if let Some(f) = floor {
-            c.draw_series(LineSeries::new(
-                [(-0.5, f), (n - 0.5, f)],
-                BLACK.stroke_width(2),
-            ))
-            .map_err(|e| e.to_string())?
-            .label("noise floor")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
-        }
-        c.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
-    }
-    Ok(svg)
+            .collect(),
+    };
+    chart::scatter_panels(
+        H,
+        &[
+            panel("Residual vs velocity: first model", &r_first),
+            panel("Residual vs velocity: final model", &r_last),
+        ],
+    )
 }
 
-fn regime_bias(first: &Stage, last: &Stage) -> Result<String, String> {
+fn regime_bias(first: &Stage, last: &Stage) -> Result<String> {
     let names: Vec<String> = first
         .regimes
         .regimes
@@ -229,11 +102,23 @@ fn regime_bias(first: &Stage, last: &Stage) -> Result<String, String> {
     };
     let a: Vec<f64> = names.iter().map(|n| value(first, n)).collect();
     let b: Vec<f64> = names.iter().map(|n| value(last, n)).collect();
-    bars(
+    chart::bars(
+        H + 60,
         "Friction the model misses, by regime (> 0: under-predicted)",
         "mean residual [N]",
         &names,
-        &[("first model", FIRST, a), ("final model", FINAL, b)],
+        &[
+            Bars {
+                label: "first model",
+                color: FIRST_MODEL,
+                values: a,
+            },
+            Bars {
+                label: "final model",
+                color: FINAL_MODEL,
+                values: b,
+            },
+        ],
         None,
     )
 }
@@ -260,12 +145,12 @@ pub fn html(d: &Diagnosis, name: &str, validation: Option<f64>) -> String {
         Ok(s) => s,
         Err(e) => format!(
             "<!doctype html><html><body><p>report failed: {}</p></body></html>",
-            escape(&e)
+            escape(&e.to_string())
         ),
     }
 }
 
-fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String, String> {
+fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     let p = &d.prepared;
     let first = &d.stages[0];
     let last = &d.stages[d.stages.len() - 1];
@@ -324,11 +209,16 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String, St
         out += &format!("<li>final model: {}</li>", escape(f));
     }
     out += "</ul>";
-    out += &bars(
+    out += &chart::bars(
+        H + 60,
         "Error after each added effect",
         "relative force error [%]",
         &history_labels,
-        &[("error", FINAL, history)],
+        &[Bars {
+            label: "error",
+            color: FINAL_MODEL,
+            values: history,
+        }],
         d.noise_floor_pct,
     )?;
     out += &force_over_time(d, &pred_first, &pred_last)?;

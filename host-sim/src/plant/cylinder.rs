@@ -12,6 +12,7 @@
 //! one-sided spring-dampers.
 
 use super::valve::ServoValve;
+use lugre_servo::axis::AxisGeometry;
 
 /// Cylinder, oil and load configuration.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,19 +45,16 @@ pub struct CylinderConfig {
 
 impl Default for CylinderConfig {
     fn default() -> Self {
-        let bore: f64 = 0.050;
-        let rod: f64 = 0.028;
-        let a_a = std::f64::consts::PI * bore * bore / 4.0;
-        let a_b = a_a - std::f64::consts::PI * rod * rod / 4.0;
+        let axis = AxisGeometry::SIMULATED;
         Self {
-            piston_area_m2: a_a,
-            annulus_area_m2: a_b,
-            stroke_m: 0.5,
+            piston_area_m2: axis.piston_area_m2(),
+            annulus_area_m2: axis.annulus_area_m2(),
+            stroke_m: axis.stroke_m,
             dead_volume_a_m3: 5e-5,
             dead_volume_b_m3: 5e-5,
             bulk_modulus_pa: 1.4e9,
             leakage_m3_per_s_pa: 2e-13,
-            moving_mass_kg: 200.0,
+            moving_mass_kg: axis.moving_mass_kg,
             vapour_pressure_pa: 2e3,
             relief_pressure_pa: 1.3 * 210e5,
             end_stop_stiffness_n_per_m: 1e9,

@@ -1,0 +1,270 @@
+//! One chart helper for every plot the tools draw (SVG text through `plotters`): line charts,
+//! side-by-side scatter panels and grouped bars, with one palette and one frame style.
+
+use crate::error::{chart as err, Result};
+use plotters::prelude::*;
+
+/// Measured signals.
+pub const MEASURED: RGBColor = RGBColor(40, 40, 40);
+/// The reference a result is compared with: the first model, the plain controller.
+pub const FIRST_MODEL: RGBColor = RGBColor(214, 96, 77);
+/// The result: the final model, the full controller.
+pub const FINAL_MODEL: RGBColor = RGBColor(33, 102, 172);
+/// Positive direction of motion.
+pub const PLUS: RGBColor = RGBColor(27, 120, 55);
+/// Negative direction of motion.
+pub const MINUS: RGBColor = RGBColor(153, 112, 171);
+/// Width of every chart [px].
+pub const WIDTH: u32 = 900;
+
+/// A chart's frame: title, axis descriptions with units, and ranges.
+#[derive(Clone, Debug)]
+pub struct Frame<'a> {
+    /// Caption.
+    pub title: &'a str,
+    /// x axis description with unit.
+    pub x_desc: &'a str,
+    /// y axis description with unit.
+    pub y_desc: &'a str,
+    /// x range.
+    pub x: (f64, f64),
+    /// y range.
+    pub y: (f64, f64),
+}
+
+/// One labelled line.
+#[derive(Clone, Debug)]
+pub struct Line<'a> {
+    /// Legend label.
+    pub label: &'a str,
+    /// Colour.
+    pub color: RGBColor,
+    /// Points (x, y).
+    pub points: Vec<(f64, f64)>,
+}
+
+/// One scatter panel: a frame and coloured points.
+#[derive(Clone, Debug)]
+pub struct Panel<'a> {
+    /// The frame.
+    pub frame: Frame<'a>,
+    /// Points (x, y, colour).
+    pub points: Vec<(f64, f64, RGBColor)>,
+}
+
+/// One series of bars.
+#[derive(Clone, Debug)]
+pub struct Bars<'a> {
+    /// Legend label.
+    pub label: &'a str,
+    /// Colour.
+    pub color: RGBColor,
+    /// One value per category.
+    pub values: Vec<f64>,
+}
+
+/// A line chart `height` px high.
+pub fn lines(height: u32, frame: &Frame, lines: &[Line]) -> Result<String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let mut c = ChartBuilder::on(&root)
+            .caption(frame.title, ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(65)
+            .build_cartesian_2d(frame.x.0..frame.x.1, frame.y.0..frame.y.1)
+            .map_err(err)?;
+        c.configure_mesh()
+            .x_desc(frame.x_desc)
+            .y_desc(frame.y_desc)
+            .draw()
+            .map_err(err)?;
+        for line in lines {
+            let color = line.color;
+            c.draw_series(LineSeries::new(
+                line.points.iter().copied(),
+                color.stroke_width(1),
+            ))
+            .map_err(err)?
+            .label(line.label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+        }
+        c.configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
+/// Scatter panels side by side, `height` px high.
+pub fn scatter_panels(height: u32, panels: &[Panel]) -> Result<String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let areas = root.split_evenly((1, panels.len().max(1)));
+        for (area, panel) in areas.iter().zip(panels) {
+            let f = &panel.frame;
+            let mut c = ChartBuilder::on(area)
+                .caption(f.title, ("sans-serif", 15))
+                .margin(8)
+                .x_label_area_size(35)
+                .y_label_area_size(55)
+                .build_cartesian_2d(f.x.0..f.x.1, f.y.0..f.y.1)
+                .map_err(err)?;
+            c.configure_mesh()
+                .x_desc(f.x_desc)
+                .y_desc(f.y_desc)
+                .draw()
+                .map_err(err)?;
+            c.draw_series(
+                panel
+                    .points
+                    .iter()
+                    .map(|&(x, y, color)| Circle::new((x, y), 1, color.filled())),
+            )
+            .map_err(err)?;
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
+/// Grouped bars over named categories, with an optional horizontal reference line (a noise
+/// floor), `height` px high.
+pub fn bars(
+    height: u32,
+    title: &str,
+    y_desc: &str,
+    categories: &[String],
+    series: &[Bars],
+    floor: Option<f64>,
+) -> Result<String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let (mut y0, y1) = range(
+            series
+                .iter()
+                .flat_map(|s| s.values.iter().copied())
+                .chain([0.0])
+                .chain(floor),
+        );
+        y0 = y0.min(0.0);
+        let n = categories.len() as f64;
+        let mut c = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(90)
+            .y_label_area_size(65)
+            .build_cartesian_2d(-0.5..(n - 0.5), y0..y1)
+            .map_err(err)?;
+        c.configure_mesh()
+            .disable_x_mesh()
+            .x_labels(categories.len().max(1))
+            .x_label_formatter(&|x| {
+                let i = x.round();
+                if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < categories.len() {
+                    categories[i as usize].clone()
+                } else {
+                    String::new()
+                }
+            })
+            .x_label_style(
+                ("sans-serif", 11)
+                    .into_font()
+                    .transform(FontTransform::Rotate90),
+            )
+            .y_desc(y_desc)
+            .draw()
+            .map_err(err)?;
+        let w = 0.8 / series.len().max(1) as f64;
+        for (j, s) in series.iter().enumerate() {
+            let color = s.color;
+            c.draw_series(s.values.iter().enumerate().map(|(i, v)| {
+                let x0 = i as f64 - 0.4 + j as f64 * w;
+                Rectangle::new([(x0, 0.0), (x0 + w * 0.9, *v)], color.filled())
+            }))
+            .map_err(err)?
+            .label(s.label)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], color.filled()));
+        }
+        if let Some(f) = floor {
+            c.draw_series(LineSeries::new(
+                [(-0.5, f), (n - 0.5, f)],
+                BLACK.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label("noise floor")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        }
+        c.configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
+/// The range of finite values with 5 % padding ((-1, 1) when there are none).
+pub fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = v
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    if !lo.is_finite() || !hi.is_finite() {
+        return (-1.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-9);
+    (lo - pad, hi + pad)
+}
+
+/// Every `step`-th index of `0..n` so that a plot holds at most `max` points.
+pub fn thin(n: usize, max: usize) -> impl Iterator<Item = usize> {
+    let step = n.div_ceil(max.max(1)).max(1);
+    (0..n).step_by(step)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_line_chart_is_svg_with_its_labels() {
+        let frame = Frame {
+            title: "t",
+            x_desc: "time [s]",
+            y_desc: "force [N]",
+            x: (0.0, 1.0),
+            y: range([0.0, 2.0].into_iter()),
+        };
+        let svg = lines(
+            300,
+            &frame,
+            &[Line {
+                label: "measured",
+                color: MEASURED,
+                points: vec![(0.0, 0.0), (1.0, 2.0)],
+            }],
+        )
+        .unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("measured") && svg.contains("time [s]"));
+    }
+
+    #[test]
+    fn range_ignores_non_finite_values_and_pads() {
+        assert_eq!(range([f64::NAN].into_iter()), (-1.0, 1.0));
+        let (lo, hi) = range([0.0, f64::INFINITY, 10.0].into_iter());
+        assert!((lo + 0.5).abs() < 1e-12 && (hi - 10.5).abs() < 1e-12);
+        assert_eq!(thin(10, 4).collect::<Vec<_>>(), vec![0, 3, 6, 9]);
+    }
+}
