@@ -372,12 +372,21 @@ impl ParamFile {
             path: path.to_path_buf(),
             source,
         })?;
-        let file: ParamFile = toml::from_str(&text).map_err(|e| ParamFileError::Syntax {
+        Self::parse(&text, path)
+    }
+
+    /// Parses and validates parameter-file text (`path` is only used in errors).
+    pub fn parse(text: &str, path: &Path) -> Result<(Self, FrictionModel<f64>), ParamFileError> {
+        let file: ParamFile = toml::from_str(text).map_err(|e| ParamFileError::Syntax {
             path: path.to_path_buf(),
             at: e.span().map(|s| {
-                let before = &text[..s.start.min(text.len())];
+                let start = (0..=s.start.min(text.len()))
+                    .rev()
+                    .find(|&i| text.is_char_boundary(i))
+                    .unwrap_or(0);
+                let before = &text[..start];
                 let line = before.matches('\n').count() + 1;
-                let column = s.start - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+                let column = start - before.rfind('\n').map_or(0, |i| i + 1) + 1;
                 (line, column)
             }),
             message: e.message().to_string(),
