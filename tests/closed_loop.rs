@@ -41,6 +41,73 @@ fn friction_compensation_cuts_low_speed_error_and_reversal_peaks() {
     assert_eq!(full.fault_ticks, 0);
 }
 
+/// A user's model is off: friction levels 30 % too high or too low, on a plant with an
+/// effect the model lacks. Without the residual observer the error grows several-fold (the
+/// over-compensated case the most); with it, `full` stays within 20 % of the plain cascade.
+#[test]
+fn full_survives_friction_levels_thirty_percent_off() {
+    use host_sim::robustness::{model, Scenario};
+    let s = SensorConfig::realistic(5);
+    let mut plant = PlantConfig::default();
+    scenarios::with_effect(&mut plant, "asymmetry", 1.0).unwrap();
+    let table2 = lugre_servo::friction::LugreParams::table2();
+    let sc = Scenario::LowSpeed;
+    let run = |m: &lugre_servo::friction::FrictionModel<f64>, f: Features| {
+        let cfg = lugre_servo::control::ControllerConfig::for_simulated_axis(m.cast().unwrap(), f);
+        track::run(&plant, s, cfg, &|t| sc.reference(t), sc.duration_s())
+    };
+    let truth = model("truth", &plant, &table2).unwrap();
+    let pid = run(&truth, Features::PID).tracking.rms_err_m;
+    let without = Features {
+        residual_observer: false,
+        ..Features::FULL
+    };
+    for name in ["static_x0.7", "static_x1.3"] {
+        let m = model(name, &plant, &table2).unwrap();
+        let full = run(&m, Features::FULL);
+        let plain = run(&m, without).tracking.rms_err_m;
+        let r = full.tracking.rms_err_m / pid;
+        println!(
+            "{name}: full {:.1} %, without residual observer {:.1} %",
+            100.0 * r,
+            100.0 * plain / pid
+        );
+        assert!(r <= 0.2, "{name}: full {:.1} % of pid", 100.0 * r);
+        assert!(
+            plain > 2.0 * full.tracking.rms_err_m,
+            "{name}: the residual observer should matter"
+        );
+        assert_eq!(full.fault_ticks, 0);
+    }
+}
+
+/// The residual observer's contribution never exceeds its bound (the model's static force),
+/// whatever the measured force does: a bounded input to the stable cascade.
+#[test]
+fn the_residual_observer_is_bounded() {
+    let mut c = Controller::new(controller_config(Features::FULL));
+    let fs = lugre_servo::friction::LugreParams::<f32>::table2().static_force();
+    let mut worst: f32 = 0.0;
+    for k in 0..5000 {
+        // a force transducer gone wild (within its range): +-300 bar swings every tick
+        let p = if k % 2 == 0 { 290e5 } else { 0.0 };
+        let o = c.tick(
+            &Measurements {
+                pressure_a_pa: p,
+                ..meas(0.25)
+            },
+            &hold(0.2501),
+        );
+        worst = worst.max(o.friction_residual_n.abs());
+        assert!(o.valve_command.abs() <= 1.0);
+    }
+    assert!(
+        worst > 0.5 * fs,
+        "the test should drive the bound ({worst})"
+    );
+    assert!(worst <= fs, "{worst} > {fs}");
+}
+
 #[test]
 fn refinement_follows_warming_oil() {
     let s = SensorConfig::realistic(4);

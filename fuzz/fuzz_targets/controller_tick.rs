@@ -22,7 +22,9 @@ fuzz_target!(|data: &[u8]| {
         Features::FEEDFORWARD,
         Features::FEEDFORWARD_OBSERVER,
         Features::FULL,
-    ][usize::from(head[0] % 4)];
+        Features::STATIC_FEEDFORWARD,
+        Features::DISTURBANCE_OBSERVER,
+    ][usize::from(head[0] % 6)];
     let p: Vec<f32> = head[1..].chunks_exact(4).map(f32_at).collect();
     let params = LugreParams::new(p[0], p[1], p[2], p[3], p[4], p[5])
         .ok()
@@ -56,6 +58,7 @@ fuzz_target!(|data: &[u8]| {
             ("friction_compensation_n", o.friction_compensation_n),
             ("friction_feedforward_n", o.friction_feedforward_n),
             ("friction_observer_n", o.friction_observer_n),
+            ("friction_residual_n", o.friction_residual_n),
         ] {
             assert!(x.is_finite(), "{name} = {x}");
         }

@@ -12,6 +12,7 @@ pub mod identify;
 pub mod params_file;
 pub mod plant;
 pub mod record;
+pub mod robustness;
 pub mod scenarios;
 pub mod stats;
 pub mod timing;

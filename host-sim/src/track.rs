@@ -10,7 +10,8 @@
 //!   (refinement off) and `refined`.
 //!
 //! Errors are the true position's: `x_ref - x`. "Peak error at reversals" is the largest
-//! |error| within 0.3 s after each reversal of the reference velocity.
+//! |error| within 0.3 s after each reversal of the reference velocity (a change of its sign,
+//! also across a dwell at rest).
 
 use crate::plant::{Plant, PlantConfig, SensorConfig, Sensors};
 use crate::scenarios;
@@ -92,10 +93,13 @@ pub fn run(
         plant.advance(out.valve_command as f64, dt);
         let (xr, vr, _) = reference(t + dt);
         let e = xr - plant.state.x;
+        // a reversal: the reference velocity changes sign (also across a dwell at rest)
         if vr * last_v < 0.0 {
             since_reversal = 0.0;
         }
-        last_v = vr;
+        if vr != 0.0 {
+            last_v = vr;
+        }
         since_reversal += dt;
         if since_reversal <= 0.3 && t > 0.5 {
             reversal_err = reversal_err.max(e.abs());

@@ -1,6 +1,7 @@
 //! The 1 kHz servo controller: measurements -> fault check -> estimator -> observer and
 //! feed-forward -> refinement -> cascade -> valve command.
 
+use super::dob::DisturbanceObserver;
 use super::estimator::{Estimator, EstimatorConfig};
 use super::faults::{Faults, RECOVERY_TICKS};
 use super::feedforward::{observer_weight, Feedforward};
@@ -14,38 +15,61 @@ use crate::friction::{Conditions, FrictionModel, LugreParams};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Features {
-    /// Friction feed-forward from the reference.
+    /// Friction feed-forward from the reference (the LuGre model driven by it).
     pub feedforward: bool,
     /// LuGre observer blended into the compensation.
     pub observer: bool,
     /// Online refinement of Fc, Fs - Fc, sigma2.
     pub refinement: bool,
+    /// Instead: the static friction map `Fc + (Fs - Fc) e^-(v/vs)^2 + sigma2 v` of the model
+    /// on the reference velocity (the practitioners' table-based feed-forward).
+    pub static_feedforward: bool,
+    /// Instead: the model-free disturbance observer ([`super::dob`]).
+    pub disturbance_observer: bool,
+    /// On top of the model: a disturbance observer on what the model misses (the measured
+    /// friction minus the model's compensation), bounded by the model's static force.
+    pub residual_observer: bool,
 }
 
 impl Features {
-    /// Plain position loop.
-    pub const PID: Self = Self {
+    const NONE: Self = Self {
         feedforward: false,
         observer: false,
         refinement: false,
+        static_feedforward: false,
+        disturbance_observer: false,
+        residual_observer: false,
     };
+    /// Plain position loop.
+    pub const PID: Self = Self::NONE;
     /// + feed-forward.
     pub const FEEDFORWARD: Self = Self {
         feedforward: true,
-        observer: false,
-        refinement: false,
+        ..Self::NONE
     };
     /// + observer.
     pub const FEEDFORWARD_OBSERVER: Self = Self {
         feedforward: true,
         observer: true,
-        refinement: false,
+        ..Self::NONE
     };
     /// Everything.
     pub const FULL: Self = Self {
         feedforward: true,
         observer: true,
         refinement: true,
+        residual_observer: true,
+        ..Self::NONE
+    };
+    /// Plain loop + static friction map on the reference velocity.
+    pub const STATIC_FEEDFORWARD: Self = Self {
+        static_feedforward: true,
+        ..Self::NONE
+    };
+    /// Plain loop + disturbance observer.
+    pub const DISTURBANCE_OBSERVER: Self = Self {
+        disturbance_observer: true,
+        ..Self::NONE
     };
 }
 
@@ -76,6 +100,13 @@ pub struct ControllerConfig {
     pub blend_speed: f32,
     /// Maximum observer weight [-].
     pub blend_max: f32,
+    /// Disturbance observer's filter cut-off f_Q [Hz] (see [`super::dob`]).
+    pub dob_cutoff_hz: f32,
+    /// The residual observer's filter cut-off [Hz].
+    pub residual_cutoff_hz: f32,
+    /// Reference speed at which the residual observer's weight has fallen to a half, as a
+    /// fraction of the model's Stribeck velocity [-].
+    pub residual_fade_fraction: f32,
     /// Estimator gains.
     pub estimator: EstimatorConfig,
     /// Refinement settings.
@@ -85,6 +116,9 @@ pub struct ControllerConfig {
     /// Control period [s].
     pub period_s: f32,
 }
+
+/// The disturbance observer's cut-off by the tuning rule of [`super::dob`] [Hz].
+pub const DOB_CUTOFF_HZ: f32 = 400.0;
 
 impl ControllerConfig {
     /// Defaults for the host simulator's axis ([`AxisGeometry::SIMULATED`]: 50/28 mm cylinder,
@@ -123,6 +157,9 @@ impl ControllerConfig {
             observer_gain: 200.0,
             blend_speed: 5e-3,
             blend_max: 0.5,
+            dob_cutoff_hz: DOB_CUTOFF_HZ,
+            residual_cutoff_hz: 50.0,
+            residual_fade_fraction: 0.5,
             estimator: EstimatorConfig::default(),
             refine: RefineConfig::default(),
             features,
@@ -166,8 +203,10 @@ pub struct Output {
     pub friction_compensation_n: f32,
     /// Feed-forward friction [N].
     pub friction_feedforward_n: f32,
-    /// Observer friction [N].
+    /// Observer friction [N] (the LuGre observer's, or the disturbance observer's).
     pub friction_observer_n: f32,
+    /// What the residual observer added to the model's compensation [N].
+    pub friction_residual_n: f32,
     /// Fault flags of this period.
     pub faults: Faults,
     /// True while in the safe state.
@@ -182,6 +221,9 @@ pub struct Controller {
     estimator: Estimator,
     observer: Observer,
     feedforward: Feedforward,
+    dob: DisturbanceObserver,
+    residual: DisturbanceObserver,
+    last_model_compensation: f32,
     refiner: Refiner,
     cascade: Cascade,
     last_ref: Option<f32>,
@@ -205,6 +247,9 @@ impl Controller {
             estimator: Estimator::default(),
             observer: Observer::default(),
             feedforward: Feedforward::default(),
+            dob: DisturbanceObserver::default(),
+            residual: DisturbanceObserver::default(),
+            last_model_compensation: 0.0,
             refiner: Refiner::new(nominal),
             cascade: Cascade::default(),
             last_ref: None,
@@ -280,6 +325,9 @@ impl Controller {
             self.estimator.reset(m.position_m);
             self.observer = Observer::default();
             self.feedforward = Feedforward::default();
+            self.dob = DisturbanceObserver::default();
+            self.residual = DisturbanceObserver::default();
+            self.last_model_compensation = 0.0;
         }
         self.estimator.update(&c.estimator, m.position_m, h);
         let est = self.estimator;
@@ -326,6 +374,41 @@ impl Controller {
                 // fall back to the static model along the reference
                 compensation = self.model.steady_state_force(r.velocity_m_per_s, &cond);
             }
+        }
+        if c.features.static_feedforward {
+            compensation = self.model.steady_state_force(r.velocity_m_per_s, &cond);
+            out.friction_feedforward_n = compensation;
+        }
+        if c.features.disturbance_observer {
+            compensation = self.dob.update(
+                measured_force,
+                c.mass_kg,
+                est.acceleration,
+                c.dob_cutoff_hz,
+                h,
+            );
+            out.friction_observer_n = compensation;
+        }
+        if c.features.residual_observer && compensation.is_finite() {
+            // the friction that acted over the last period (force minus inertia) minus what
+            // the model compensated then: the model's error, low-passed and bounded
+            let missed = self.residual.update(
+                measured_force - self.last_model_compensation,
+                c.mass_kg,
+                est.acceleration,
+                c.residual_cutoff_hz,
+                h,
+            );
+            // it works where the levels decide the error: in the Stribeck region, where the
+            // friction is its levels Fs and Fc. Above it the friction follows the velocity,
+            // the observer's lag costs more than it gains, and the refinement owns the levels.
+            let fade = c.residual_fade_fraction * self.model.params.stribeck_velocity();
+            let s = r.velocity_m_per_s / fade.max(1e-6);
+            let weight = 1.0 / (1.0 + s * s);
+            let bound = self.model.params.static_force();
+            out.friction_residual_n = weight * missed.clamp(-bound, bound);
+            self.last_model_compensation = compensation;
+            compensation += out.friction_residual_n;
         }
         if c.features.refinement {
             let y = measured_force - c.mass_kg * est.acceleration;

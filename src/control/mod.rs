@@ -2,9 +2,11 @@
 //! [`estimator`] (velocity and acceleration), [`observer`] (LuGre friction observer),
 //! [`feedforward`] (friction from the reference, blended with the observer), [`position`]
 //! (position -> force -> valve cascade), [`refine`] (online RLS of Fc, Fs - Fc, sigma2),
+//! [`dob`] (the model-free disturbance observer practitioners use, for comparison),
 //! [`faults`], and [`controller`] which composes them.
 
 pub mod controller;
+pub mod dob;
 pub mod estimator;
 pub mod faults;
 pub mod feedforward;

@@ -286,6 +286,47 @@ pub struct Conditions<T> {
 }
 
 impl<T: Float> Effects<T> {
+    /// The same effects in another float type (f64 on the host -> f32 on the MCU); a value the
+    /// target type cannot hold becomes NaN, which the model's checks then refuse.
+    pub fn cast<U: Float>(&self) -> Effects<U> {
+        let c = |x: T| U::from(x).unwrap_or_else(U::nan);
+        Effects {
+            asymmetry: self.asymmetry.map(|a| Asymmetry {
+                coulomb_ratio: c(a.coulomb_ratio),
+                viscous_ratio: c(a.viscous_ratio),
+            }),
+            offset: self.offset.map(|o| Offset { force: c(o.force) }),
+            load_dependence: self.load_dependence.map(|l| LoadDependence {
+                coefficient: c(l.coefficient),
+                reference_pressure_sum: c(l.reference_pressure_sum),
+            }),
+            position_dependence: self.position_dependence.map(|p| PositionDependence {
+                gradient: c(p.gradient),
+                center: c(p.center),
+                half_span: c(p.half_span),
+                cosine: p.cosine.map(c),
+                terms: p.terms,
+            }),
+            temperature_dependence: self.temperature_dependence.map(|t| TemperatureDependence {
+                viscous_per_kelvin: c(t.viscous_per_kelvin),
+                coulomb_per_kelvin: c(t.coulomb_per_kelvin),
+                reference_temperature: c(t.reference_temperature),
+            }),
+            stribeck_shape: self.stribeck_shape.map(|s| StribeckShape {
+                exponent: c(s.exponent),
+            }),
+            viscous_power: self.viscous_power.map(|v| ViscousPower {
+                exponent: c(v.exponent),
+                reference_velocity: c(v.reference_velocity),
+            }),
+            dwell_stiction: self.dwell_stiction.map(|d| DwellStiction {
+                max_increase: c(d.max_increase),
+                time_constant: c(d.time_constant),
+                stick_velocity: c(d.stick_velocity),
+            }),
+        }
+    }
+
     /// No effect switched on.
     pub const fn none() -> Self {
         Self {

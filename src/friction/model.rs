@@ -39,6 +39,15 @@ pub struct FrictionModel<T> {
 }
 
 impl<T: Float> FrictionModel<T> {
+    /// The same model in another float type (the parameters validated again by
+    /// [`LugreParams::cast`]).
+    pub fn cast<U: Float>(&self) -> Result<FrictionModel<U>, crate::friction::ParamError> {
+        Ok(FrictionModel {
+            params: self.params.cast()?,
+            effects: self.effects.cast(),
+        })
+    }
+
     /// A plain LuGre model.
     pub fn plain(params: LugreParams<T>) -> Self {
         Self {

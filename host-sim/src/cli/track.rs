@@ -67,11 +67,165 @@ pub struct Args {
     /// Sensor noise seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// The robustness matrix instead: plants x controller models x configurations x
+    /// scenarios (see `host_sim::robustness`); --json writes every case, --plot the matrix.
+    #[arg(long)]
+    robustness: bool,
 }
 
 /// Runs the subcommand.
 pub fn run(a: &Args) -> Result<()> {
+    if a.robustness {
+        return robustness(a);
+    }
     benchmark(a.json.as_deref(), a.plot.as_deref(), a.seed)
+}
+
+/// The models within +-30 % static mismatch (the target set).
+const WITHIN_30: [&str; 6] = [
+    "truth",
+    "identified",
+    "static_x0.7",
+    "static_x0.8",
+    "static_x1.2",
+    "static_x1.3",
+];
+
+fn robustness(a: &Args) -> Result<()> {
+    use host_sim::robustness::{self as rb, Scenario};
+    use indicatif::{ProgressBar, ProgressStyle};
+    let wall = std::time::Instant::now();
+    let sensors = host_sim::plant::SensorConfig::realistic(a.seed);
+    // the disturbance observer's tuning rule (see lugre_servo::control::dob)
+    println!("dob cut-off sweep (plain plant, model-free; RMS as % of pid per scenario):");
+    let plain = host_sim::plant::PlantConfig::default();
+    let rms = |features, cutoff| {
+        Scenario::ALL.map(|s| {
+            let mut ctrl = lugre_servo::control::ControllerConfig::for_simulated_axis(
+                lugre_servo::friction::FrictionModel::plain(
+                    lugre_servo::friction::LugreParams::table2(),
+                ),
+                features,
+            );
+            ctrl.dob_cutoff_hz = cutoff;
+            let r = track::run(&plain, sensors, ctrl, &|t| s.reference(t), s.duration_s());
+            r.tracking.rms_err_m
+        })
+    };
+    let pid = rms(lugre_servo::control::Features::PID, 0.0);
+    let mut best = (f64::INFINITY, 0.0);
+    for f in lugre_servo::control::dob::TUNING_GRID_HZ {
+        let r = rms(lugre_servo::control::Features::DISTURBANCE_OBSERVER, f);
+        let pct = [0, 1, 2].map(|i| 100.0 * r[i] / pid[i]);
+        let worst = pct.iter().cloned().fold(0.0, f64::max);
+        if worst < best.0 {
+            best = (worst, f);
+        }
+        println!(
+            "  f_Q {f:>5} Hz: low_speed {:>6.1} %  point_to_point {:>6.1} %  creep {:>6.1} %",
+            pct[0], pct[1], pct[2]
+        );
+    }
+    println!(
+        "  best (lowest worst-case): {} Hz; in use: {} Hz",
+        best.1,
+        lugre_servo::control::controller::DOB_CUTOFF_HZ
+    );
+    let bar = ProgressBar::new(rb::runs() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("  {bar:40} {pos}/{len} runs {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    if std::env::var_os("CI").is_some() {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let m = rb::matrix(a.seed, &|| bar.inc(1));
+    bar.finish_and_clear();
+    let plants: Vec<String> = rb::plants().into_iter().map(|(n, _)| n).collect();
+    let pct = |plant: &str, model: &str, config: &str, scenario: &str, f: fn(&rb::Case) -> f64| {
+        let pid = m.get(plant, model, "pid", scenario).map(f);
+        let c = m.get(plant, model, config, scenario).map(f);
+        match (c, pid) {
+            (Some(c), Some(p)) if p > 0.0 => 100.0 * c / p,
+            _ => f64::NAN,
+        }
+    };
+    println!(
+        "\nlow_speed: full as % of pid RMS (reversal peak % of pid), by plant and controller model"
+    );
+    print!("  {:<24}", "plant");
+    for model in rb::MODELS {
+        print!(" {model:>14}");
+    }
+    println!();
+    let mut grid = Vec::new();
+    let (mut worst, mut worst_at) = (0.0f64, String::new());
+    let mut worst_rev: f64 = 0.0;
+    for p in &plants {
+        print!("  {p:<24}");
+        let mut row = Vec::new();
+        for model in rb::MODELS {
+            let rms = pct(p, model, "full", "low_speed", |c| c.rms_err_m);
+            let rev = pct(p, model, "full", "low_speed", |c| c.reversal_err_m);
+            print!(" {:>6.1} ({:>4.0})", rms, rev);
+            if WITHIN_30.contains(&model) {
+                if rms > worst {
+                    worst = rms;
+                    worst_at = format!("{p} / {model}");
+                }
+                worst_rev = worst_rev.max(rev);
+            }
+            row.push(rms);
+        }
+        println!();
+        grid.push(row);
+    }
+    println!(
+        "  worst within +-30 % static mismatch: {worst:.1} % of pid ({worst_at}); largest reversal peak {worst_rev:.0} % of pid"
+    );
+    println!("\nidentified model on the plain plant: RMS [um] (reversal peak [um], settle [s])");
+    print!("  {:<16}", "scenario");
+    for (c, _) in rb::CONFIGS {
+        print!(" {c:>24}");
+    }
+    println!();
+    for s in Scenario::ALL {
+        print!("  {:<16}", s.name());
+        for (c, _) in rb::CONFIGS {
+            match m.get("plain", "identified", c, s.name()) {
+                Some(k) => print!(
+                    " {:>8.2} ({:>6.1}, {:>5})",
+                    k.rms_err_m * 1e6,
+                    k.reversal_err_m * 1e6,
+                    k.settle_s.map_or("-".into(), |t| format!("{t:.2}"))
+                ),
+                None => print!(" {:>24}", "failed"),
+            }
+        }
+        println!();
+    }
+    let faults: usize = m.cases.iter().map(|c| c.fault_ticks).sum();
+    println!(
+        "\n{} cases ({} runs) in {:.1} s; fault ticks over all cases: {faults}",
+        m.cases.len(),
+        rb::runs(),
+        wall.elapsed().as_secs_f64()
+    );
+    if let Some(p) = &a.json {
+        super::write_json(p, &m)?;
+    }
+    if let Some(p) = &a.plot {
+        let svg = chart::heatmap(
+            60 + 32 * plants.len() as u32,
+            "low_speed: full controller RMS error as % of the plain cascade's",
+            &plants,
+            &rb::MODELS.map(String::from),
+            &grid,
+            (20.0, 100.0),
+        )?;
+        super::write_text(p, &svg)?;
+    }
+    Ok(())
 }
 
 /// Runs the benchmark, writes the JSON and the plot where asked.
