@@ -286,6 +286,56 @@ fn references_beyond_the_axis_limits_are_a_fault() {
     assert!(!o.faults.contains(Faults::REFERENCE_RANGE));
 }
 
+/// A configuration is checked once, and the error names the field.
+#[test]
+fn a_wrong_configuration_names_its_field() {
+    let good = controller_config(Features::FULL);
+    assert!(good.validate().is_ok());
+    type Spoil = fn(&mut lugre_servo::control::ControllerConfig);
+    let cases: [(&str, Spoil); 6] = [
+        ("period_s", |c| c.period_s = 0.0),
+        ("mass_kg", |c| c.mass_kg = -200.0),
+        ("annulus_area_m2", |c| c.annulus_area_m2 = 1.0),
+        ("stroke_m", |c| c.stroke_m = [0.5, 0.0]),
+        ("dob_cutoff_hz", |c| c.dob_cutoff_hz = 600.0),
+        ("blend_max", |c| c.blend_max = f32::NAN),
+    ];
+    for (field, spoil) in cases {
+        let mut c = good;
+        spoil(&mut c);
+        let e = c.build().map(|_| ()).unwrap_err();
+        assert_eq!(e.field, field);
+        assert!(e
+            .to_string()
+            .starts_with(&format!("controller config: {field} ")));
+    }
+}
+
+/// One mode for the safe-state machine: a fault enters `Safe`, sane periods count up, the
+/// loop closes again after the recovery period.
+#[test]
+fn the_mode_follows_faults_and_recovery() {
+    use lugre_servo::control::controller::Mode;
+    let cfg = controller_config(Features::FULL);
+    let mut c = cfg.build().unwrap();
+    c.tick(&meas(0.25), &hold(0.25));
+    assert_eq!(c.mode(), Mode::Running);
+    c.tick(
+        &Measurements {
+            position_m: f32::NAN,
+            ..meas(0.25)
+        },
+        &hold(0.25),
+    );
+    assert_eq!(c.mode(), Mode::Safe { sane_ticks: 0 });
+    c.tick(&meas(0.25), &hold(0.25));
+    assert_eq!(c.mode(), Mode::Safe { sane_ticks: 1 });
+    for _ in 0..cfg.supervisor.recovery_ticks {
+        c.tick(&meas(0.25), &hold(0.25));
+    }
+    assert_eq!(c.mode(), Mode::Running);
+}
+
 #[test]
 fn a_stuck_encoder_is_detected() {
     let mut c = Controller::new(controller_config(Features::FULL));

@@ -113,6 +113,8 @@ pub struct ControllerConfig {
     pub refine: RefineConfig,
     /// Enabled parts.
     pub features: Features,
+    /// Supervisor thresholds.
+    pub supervisor: SupervisorConfig,
     /// Control period [s].
     pub period_s: f32,
 }
@@ -163,6 +165,7 @@ impl ControllerConfig {
             estimator: EstimatorConfig::default(),
             refine: RefineConfig::default(),
             features,
+            supervisor: SupervisorConfig::default(),
             period_s: 1e-3,
         }
     }
@@ -213,11 +216,179 @@ pub struct Output {
     pub safe: bool,
 }
 
+/// Thresholds of the supervisor (the safe-state machine).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SupervisorConfig {
+    /// Consecutive sane periods before the loop closes again after a fault.
+    pub recovery_ticks: u32,
+    /// |Valve command| above which a motionless encoder counts towards a stuck fault [-].
+    pub stuck_command: f32,
+    /// Periods of a hard-pushed, motionless encoder before it is a fault (0.3 s at 1 kHz).
+    pub stuck_ticks: u32,
+}
+
+impl Default for SupervisorConfig {
+    fn default() -> Self {
+        Self {
+            recovery_ticks: RECOVERY_TICKS,
+            stuck_command: 0.9,
+            stuck_ticks: 300,
+        }
+    }
+}
+
+/// The safe-state machine: the valve is nulled in `Safe` and the loop closes in `Running`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Mode {
+    /// Valve at null; the inputs have been sane for `sane_ticks` periods (the loop closes
+    /// when that reaches the supervisor's `recovery_ticks`).
+    Safe {
+        /// Consecutive sane periods so far.
+        sane_ticks: u32,
+    },
+    /// The loop is closed.
+    Running,
+}
+
+/// A configuration value out of its range: which field, and what it must be.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ConfigError {
+    /// The field, as named in [`ControllerConfig`].
+    pub field: &'static str,
+    /// What it must be.
+    pub requirement: &'static str,
+}
+
+impl core::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "controller config: {} {}", self.field, self.requirement)
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for ConfigError {}
+
+impl ControllerConfig {
+    /// Checks every field once (the tick then never divides by a zero period or runs with a
+    /// negative mass); the error names the first wrong field.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let err = |field, requirement| Err(ConfigError { field, requirement });
+        let positive = |v: f32| v.is_finite() && v > 0.0;
+        let non_negative = |v: f32| v.is_finite() && v >= 0.0;
+        if !(positive(self.period_s) && self.period_s <= 0.1) {
+            return err("period_s", "must be within (0, 0.1] s");
+        }
+        if !positive(self.mass_kg) {
+            return err("mass_kg", "must be a finite number greater than zero");
+        }
+        if !positive(self.piston_area_m2) {
+            return err(
+                "piston_area_m2",
+                "must be a finite number greater than zero",
+            );
+        }
+        if !(positive(self.annulus_area_m2) && self.annulus_area_m2 <= self.piston_area_m2) {
+            return err(
+                "annulus_area_m2",
+                "must be greater than zero and at most piston_area_m2",
+            );
+        }
+        let [lo, hi] = self.stroke_m;
+        if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+            return err("stroke_m", "must be finite with stroke_m[0] < stroke_m[1]");
+        }
+        let [plo, phi] = self.pressure_range_pa;
+        if !(plo.is_finite() && phi.is_finite() && plo < phi) {
+            return err("pressure_range_pa", "must be finite with [0] < [1]");
+        }
+        if !positive(self.max_speed_m_per_s) {
+            return err(
+                "max_speed_m_per_s",
+                "must be a finite number greater than zero",
+            );
+        }
+        if !positive(self.max_acceleration_m_per_s2) {
+            return err(
+                "max_acceleration_m_per_s2",
+                "must be a finite number greater than zero",
+            );
+        }
+        let g = &self.cascade;
+        for (field, v) in [
+            ("cascade.position_gain", g.position_gain),
+            ("cascade.velocity_gain", g.velocity_gain),
+            ("cascade.position_integral_gain", g.position_integral_gain),
+            ("cascade.force_gain", g.force_gain),
+            ("cascade.force_integral_gain", g.force_integral_gain),
+            ("cascade.position_integral_limit", g.position_integral_limit),
+            ("observer_gain", self.observer_gain),
+        ] {
+            if !non_negative(v) {
+                return err(field, "must be a finite number, zero or greater");
+            }
+        }
+        if !positive(g.full_opening_speed) {
+            return err(
+                "cascade.full_opening_speed",
+                "must be a finite number greater than zero",
+            );
+        }
+        if !positive(self.blend_speed) {
+            return err("blend_speed", "must be a finite number greater than zero");
+        }
+        if !(self.blend_max.is_finite() && (0.0..=1.0).contains(&self.blend_max)) {
+            return err("blend_max", "must be within [0, 1]");
+        }
+        let nyquist = 0.5 / self.period_s;
+        for (field, v) in [
+            ("dob_cutoff_hz", self.dob_cutoff_hz),
+            ("residual_cutoff_hz", self.residual_cutoff_hz),
+        ] {
+            if !(positive(v) && v < nyquist) {
+                return err(
+                    field,
+                    "must be greater than zero and below the Nyquist frequency",
+                );
+            }
+        }
+        if !positive(self.residual_fade_fraction) {
+            return err(
+                "residual_fade_fraction",
+                "must be a finite number greater than zero",
+            );
+        }
+        if self.model.params.check_physical().is_err() {
+            return err("model", "must pass LugreParams::check_physical");
+        }
+        let s = &self.supervisor;
+        if s.recovery_ticks == 0 || s.stuck_ticks == 0 {
+            return err(
+                "supervisor",
+                "recovery_ticks and stuck_ticks must be at least 1",
+            );
+        }
+        if !(s.stuck_command.is_finite() && s.stuck_command > 0.0 && s.stuck_command <= 1.0) {
+            return err("supervisor.stuck_command", "must be within (0, 1]");
+        }
+        Ok(())
+    }
+
+    /// Validates the configuration and builds a controller with it.
+    pub fn build(self) -> Result<Controller, ConfigError> {
+        self.validate()?;
+        Ok(Controller::new(self))
+    }
+}
+
 /// The controller state.
 #[derive(Clone, Copy, Debug)]
 pub struct Controller {
     config: ControllerConfig,
     model: FrictionModel<f32>,
+    mode: Mode,
     estimator: Estimator,
     observer: Observer,
     feedforward: Feedforward,
@@ -227,14 +398,13 @@ pub struct Controller {
     refiner: Refiner,
     cascade: Cascade,
     last_ref: Option<f32>,
-    sane_ticks: u32,
-    safe: bool,
     stuck_ticks: u32,
     last_position: f32,
 }
 
 impl Controller {
-    /// A controller at rest, in the safe state until the first sane measurements.
+    /// A controller at rest with the valve at null; it closes the loop on the first sane
+    /// measurements (see [`ControllerConfig::build`] for a validated start).
     pub fn new(config: ControllerConfig) -> Self {
         let p = &config.model.params;
         let nominal = [
@@ -244,6 +414,9 @@ impl Controller {
         ];
         Self {
             model: config.model,
+            mode: Mode::Safe {
+                sane_ticks: config.supervisor.recovery_ticks,
+            },
             estimator: Estimator::default(),
             observer: Observer::default(),
             feedforward: Feedforward::default(),
@@ -253,8 +426,6 @@ impl Controller {
             refiner: Refiner::new(nominal),
             cascade: Cascade::default(),
             last_ref: None,
-            sane_ticks: RECOVERY_TICKS,
-            safe: false,
             stuck_ticks: 0,
             last_position: 0.0,
             config,
@@ -264,6 +435,58 @@ impl Controller {
     /// The model in use (with refined parameters).
     pub fn model(&self) -> &FrictionModel<f32> {
         &self.model
+    }
+
+    /// The safe-state machine's mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// One control period: supervise inputs -> estimate -> compensate -> cascade ->
+    /// supervise output; then the refinement adapts the model for the next period.
+    pub fn tick(&mut self, m: &Measurements, r: &Reference) -> Output {
+        let mut out = Output::default();
+        // 1. supervise inputs: a bad measurement or reference nulls the valve
+        let faults = self.input_faults(m, r);
+        if !faults.is_empty() {
+            return self.enter_safe(faults);
+        }
+        if !self.ready(m, r) {
+            out.safe = true;
+            return out;
+        }
+        // 2. estimate
+        self.estimator
+            .update(&self.config.estimator, m.position_m, self.config.period_s);
+        // 3. compensate
+        let measured_force = self.compensate(m, r, &mut out);
+        // 4. cascade
+        let c = self.config;
+        let est = self.estimator;
+        let co = self.cascade.update(
+            &c.cascade,
+            c.mass_kg,
+            r.position_m - est.position,
+            r.velocity_m_per_s - est.velocity,
+            r.velocity_m_per_s,
+            r.acceleration_m_per_s2,
+            out.friction_compensation_n,
+            measured_force,
+            c.period_s,
+        );
+        out.force_demand_n = co.force_demand;
+        // 5. supervise output
+        if let Some(fault) = self.output_fault(m, co.command, co.force_demand) {
+            let mut safe = self.enter_safe(fault);
+            safe.faults.insert(out.faults);
+            return safe;
+        }
+        out.valve_command = co.command;
+        // 6. refinement, after the output: it adapts the model the next period uses
+        if c.features.refinement && !self.refine(measured_force) {
+            out.faults.insert(Faults::REFINEMENT_RESET);
+        }
+        out
     }
 
     fn input_faults(&self, m: &Measurements, r: &Reference) -> Faults {
@@ -283,6 +506,11 @@ impl Controller {
         if m.position_m < lo || m.position_m > hi {
             f.insert(Faults::POSITION_RANGE);
         }
+        let [plo, phi] = self.config.pressure_range_pa;
+        let bad = |p: f32| p < plo || p > phi;
+        if bad(m.pressure_a_pa) || bad(m.pressure_b_pa) {
+            f.insert(Faults::PRESSURE_RANGE);
+        }
         if r.position_m < lo
             || r.position_m > hi
             || r.velocity_m_per_s.abs() > self.config.max_speed_m_per_s
@@ -290,46 +518,40 @@ impl Controller {
         {
             f.insert(Faults::REFERENCE_RANGE);
         }
-        let [plo, phi] = self.config.pressure_range_pa;
-        let bad = |p: f32| p < plo || p > phi;
-        if bad(m.pressure_a_pa) || bad(m.pressure_b_pa) {
-            f.insert(Faults::PRESSURE_RANGE);
-        }
         f
     }
 
-    /// One control period.
-    pub fn tick(&mut self, m: &Measurements, r: &Reference) -> Output {
-        let c = self.config;
-        let h = c.period_s;
-        let mut out = Output::default();
-        let faults = self.input_faults(m, r);
-        out.faults = faults;
-        if !faults.is_empty() {
-            self.sane_ticks = 0;
-            self.enter_safe();
-            out.safe = true;
-            return out;
-        }
-        if self.sane_ticks < RECOVERY_TICKS {
-            self.sane_ticks += 1;
-            out.safe = true;
+    /// Counts sane periods in `Safe`; on leaving it, every integrator and observer starts
+    /// from where the axis is. True when the loop is closed this period.
+    fn ready(&mut self, m: &Measurements, r: &Reference) -> bool {
+        let Mode::Safe { sane_ticks } = self.mode else {
+            return true;
+        };
+        if sane_ticks < self.config.supervisor.recovery_ticks {
+            self.mode = Mode::Safe {
+                sane_ticks: sane_ticks + 1,
+            };
             self.estimator.reset(m.position_m);
             self.last_ref = Some(r.position_m);
-            return out;
+            return false;
         }
-        if self.safe {
-            // leaving the safe state: start from where the axis is, integrators cleared
-            self.safe = false;
-            self.cascade.reset();
-            self.estimator.reset(m.position_m);
-            self.observer = Observer::default();
-            self.feedforward = Feedforward::default();
-            self.dob = DisturbanceObserver::default();
-            self.residual = DisturbanceObserver::default();
-            self.last_model_compensation = 0.0;
-        }
-        self.estimator.update(&c.estimator, m.position_m, h);
+        self.mode = Mode::Running;
+        self.cascade.reset();
+        self.estimator.reset(m.position_m);
+        self.observer = Observer::default();
+        self.feedforward = Feedforward::default();
+        self.dob = DisturbanceObserver::default();
+        self.residual = DisturbanceObserver::default();
+        self.last_model_compensation = 0.0;
+        self.stuck_ticks = 0;
+        true
+    }
+
+    /// The friction compensation [N] into `out` (with its parts), by the enabled features;
+    /// returns the actuator force measured from the chamber pressures [N].
+    fn compensate(&mut self, m: &Measurements, r: &Reference, out: &mut Output) -> f32 {
+        let c = self.config;
+        let h = c.period_s;
         let est = self.estimator;
         let measured_force =
             m.pressure_a_pa * c.piston_area_m2 - m.pressure_b_pa * c.annulus_area_m2;
@@ -410,79 +632,84 @@ impl Controller {
             self.last_model_compensation = compensation;
             compensation += out.friction_residual_n;
         }
-        if c.features.refinement {
-            let y = measured_force - c.mass_kg * est.acceleration;
-            let vs = self.model.params.stribeck_velocity();
-            let updated = self
-                .refiner
-                .update(&c.refine, y, est.velocity, est.acceleration, vs);
-            if updated {
-                let p = self.model.params;
-                let [fc, dfs, s2] = self.refiner.theta;
-                match LugreParams::new(
-                    p.bristle_stiffness(),
-                    p.bristle_damping(),
-                    s2,
-                    fc,
-                    fc + dfs,
-                    vs,
-                ) {
-                    Ok(q) => self.model.params = q,
-                    Err(_) => {
-                        self.refiner.reset();
-                        self.model.params = c.model.params;
-                        out.faults.insert(Faults::REFINEMENT_RESET);
-                    }
-                }
-            }
-        }
         if !compensation.is_finite() {
             compensation = 0.0;
             out.faults.insert(Faults::OBSERVER_DIVERGED);
             self.observer = Observer::default();
+            self.residual = DisturbanceObserver::default();
         }
         out.friction_compensation_n = compensation;
+        measured_force
+    }
 
-        let co = self.cascade.update(
-            &c.cascade,
-            c.mass_kg,
-            e,
-            r.velocity_m_per_s - est.velocity,
-            r.velocity_m_per_s,
-            r.acceleration_m_per_s2,
-            compensation,
-            measured_force,
-            h,
-        );
-        out.force_demand_n = co.force_demand;
-
-        // stuck encoder: the valve pushed hard for 0.3 s and the position did not change at all
-        if co.command.abs() > 0.9 && m.position_m == self.last_position {
+    /// A fault of the cascade's output: a non-finite command or force demand, or the valve
+    /// pushed hard while the encoder does not move at all (stuck encoder).
+    fn output_fault(
+        &mut self,
+        m: &Measurements,
+        command: f32,
+        force_demand: f32,
+    ) -> Option<Faults> {
+        let s = self.config.supervisor;
+        if command.abs() > s.stuck_command && m.position_m == self.last_position {
             self.stuck_ticks += 1;
         } else {
             self.stuck_ticks = 0;
         }
         self.last_position = m.position_m;
-        let finite = co.command.is_finite() && co.force_demand.is_finite();
-        if self.stuck_ticks > 300 || !finite {
-            out.faults.insert(if finite {
-                Faults::STUCK_ENCODER
-            } else {
-                Faults::NON_FINITE
-            });
-            self.sane_ticks = 0;
-            self.stuck_ticks = 0;
-            self.enter_safe();
-            out.safe = true;
-            out.force_demand_n = 0.0;
-            return out;
+        if !(command.is_finite() && force_demand.is_finite()) {
+            Some(Faults::NON_FINITE)
+        } else if self.stuck_ticks > s.stuck_ticks {
+            Some(Faults::STUCK_ENCODER)
+        } else {
+            None
         }
-        out.valve_command = co.command;
-        out
     }
 
-    fn enter_safe(&mut self) {
-        self.safe = true;
+    /// Online refinement of Fc, Fs - Fc and sigma2 from the measured friction; false when it
+    /// diverged and was reset to the identified parameters.
+    fn refine(&mut self, measured_force: f32) -> bool {
+        let c = self.config;
+        let est = self.estimator;
+        let y = measured_force - c.mass_kg * est.acceleration;
+        let vs = self.model.params.stribeck_velocity();
+        if !self
+            .refiner
+            .update(&c.refine, y, est.velocity, est.acceleration, vs)
+        {
+            return true;
+        }
+        let p = self.model.params;
+        let [fc, dfs, s2] = self.refiner.theta;
+        match LugreParams::new(
+            p.bristle_stiffness(),
+            p.bristle_damping(),
+            s2,
+            fc,
+            fc + dfs,
+            vs,
+        ) {
+            Ok(q) => {
+                self.model.params = q;
+                true
+            }
+            Err(_) => {
+                self.refiner.reset();
+                self.model.params = c.model.params;
+                false
+            }
+        }
+    }
+
+    /// Nulls the valve and enters `Safe`.
+    fn enter_safe(&mut self, faults: Faults) -> Output {
+        self.mode = Mode::Safe { sane_ticks: 0 };
+        self.stuck_ticks = 0;
         self.cascade.reset();
+        Output {
+            faults,
+            safe: true,
+            ..Output::default()
+        }
     }
 }

@@ -74,3 +74,31 @@ impl Estimator {
         self.mean_velocity = (self.position - old) / h;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On a ramp (constant velocity) the alpha-beta-gamma filter has no steady-state lag in
+    /// position or velocity; on a parabola its velocity settles without lag either (a type-3
+    /// tracker); a step of the measurement is followed within the filter's settling time.
+    #[test]
+    fn tracks_ramps_and_parabolas_without_lag() {
+        let c = EstimatorConfig::default();
+        let h = 1e-3;
+        let mut e = Estimator::default();
+        for k in 0..2000 {
+            e.update(&c, 0.1 + 0.02 * k as f32 * h, h);
+        }
+        assert!((e.velocity - 0.02).abs() < 1e-4, "{}", e.velocity);
+        assert!((e.position - (0.1 + 0.02 * 1999.0 * h)).abs() < 1e-6);
+        assert!(e.acceleration.abs() < 1e-2);
+        let mut e = Estimator::default();
+        for k in 0..3000 {
+            let t = k as f32 * h;
+            e.update(&c, 0.1 + 0.5 * 0.4 * t * t, h);
+        }
+        assert!((e.velocity - 0.4 * 2.999).abs() < 2e-3, "{}", e.velocity);
+        assert!((e.acceleration - 0.4).abs() < 2e-2, "{}", e.acceleration);
+    }
+}

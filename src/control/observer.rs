@@ -55,3 +55,31 @@ impl Observer {
         true
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::friction::LugreParams;
+
+    /// Whatever the tracking error drives, the estimated bristle deflection stays within the
+    /// physical set |z| <= Fs / sigma0, so the estimated friction at standstill stays within
+    /// Fs plus the damping of the corrected bristle velocity, sigma1 k |e|.
+    #[test]
+    fn the_estimate_stays_within_the_physical_bound() {
+        let model = FrictionModel::plain(LugreParams::<f32>::table2());
+        let p = model.params;
+        let c = model.effects.reference_conditions();
+        let mut o = Observer::default();
+        for k in 0..20_000 {
+            // at standstill with a large, alternating error: the correction drives hard
+            let error = if (k / 3000) % 2 == 0 { 1e-3 } else { -1e-3 };
+            assert!(o.update(&model, 0.0, 0.0, error, 200.0, &c, 1e-3));
+            assert!(o.state.z.abs() <= p.static_force() / p.bristle_stiffness() * 1.0001);
+            let bound = p.static_force() + p.bristle_damping() * 200.0 * 1e-3;
+            assert!(o.force.abs() <= bound * 1.0001, "{} > {bound}", o.force);
+        }
+        // a NaN is divergence: reported and reset
+        assert!(!o.update(&model, f32::NAN, 0.0, 0.0, 200.0, &c, 1e-3));
+        assert_eq!(o, Observer::default());
+    }
+}

@@ -93,3 +93,46 @@ impl Cascade {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn config() -> CascadeConfig {
+        CascadeConfig {
+            position_gain: 2.0e6,
+            velocity_gain: 2.0e4,
+            position_integral_gain: 2.0e7,
+            force_gain: 1.0e-5,
+            force_integral_gain: 2.0e-4,
+            full_opening_speed: 0.6,
+            position_integral_limit: 1e-3,
+        }
+    }
+
+    /// Anti-windup: once the valve is saturated by an error that pushes further into
+    /// saturation, neither integrator moves; the position integral never leaves its limit;
+    /// and the command leaves saturation on the first period the error reverses.
+    #[test]
+    fn integrators_do_not_wind_up_in_saturation() {
+        let c = config();
+        let mut k = Cascade::default();
+        // 10 mm behind and nothing moves: the command saturates at +1
+        let mut out = k.update(&c, 200.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0, 1e-3);
+        let mut n = 0;
+        while out.command < 1.0 {
+            out = k.update(&c, 200.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0, 1e-3);
+            n += 1;
+            assert!(n < 100_000, "never saturated");
+        }
+        let frozen = (k.position_integral, k.force_integral);
+        for _ in 0..10_000 {
+            let out = k.update(&c, 200.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0, 1e-3);
+            assert_eq!(out.command, 1.0);
+        }
+        assert_eq!((k.position_integral, k.force_integral), frozen);
+        assert!(k.position_integral.abs() <= c.position_integral_limit);
+        let out = k.update(&c, 200.0, -0.01, 0.0, 0.0, 0.0, 0.0, 0.0, 1e-3);
+        assert!(out.command < 1.0, "still saturated: {}", out.command);
+    }
+}
