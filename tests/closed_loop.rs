@@ -82,21 +82,28 @@ fn full_survives_friction_levels_thirty_percent_off() {
 }
 
 /// The residual observer's contribution never exceeds its bound (the model's static force),
-/// whatever the measured force does: a bounded input to the stable cascade.
+/// whatever the measured force does: a bounded input to the stable cascade. At rest it adds
+/// nothing.
 #[test]
 fn the_residual_observer_is_bounded() {
     let mut c = Controller::new(controller_config(Features::FULL));
     let fs = lugre_servo::friction::LugreParams::<f32>::table2().static_force();
     let mut worst: f32 = 0.0;
     for k in 0..5000 {
-        // a force transducer gone wild (within its range): +-300 bar swings every tick
+        // a force transducer gone wild (within its range): +-300 bar swings every tick,
+        // while the reference creeps at 1 mm/s
         let p = if k % 2 == 0 { 290e5 } else { 0.0 };
+        let r = Reference {
+            position_m: 0.25 + 1e-3 * k as f32 * 1e-3,
+            velocity_m_per_s: 1e-3,
+            acceleration_m_per_s2: 0.0,
+        };
         let o = c.tick(
             &Measurements {
                 pressure_a_pa: p,
                 ..meas(0.25)
             },
-            &hold(0.2501),
+            &r,
         );
         worst = worst.max(o.friction_residual_n.abs());
         assert!(o.valve_command.abs() <= 1.0);
@@ -106,6 +113,9 @@ fn the_residual_observer_is_bounded() {
         "the test should drive the bound ({worst})"
     );
     assert!(worst <= fs, "{worst} > {fs}");
+    c.tick(&meas(0.25), &hold(0.255));
+    let o = c.tick(&meas(0.25), &hold(0.255));
+    assert_eq!(o.friction_residual_n, 0.0);
 }
 
 #[test]

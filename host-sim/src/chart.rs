@@ -214,28 +214,22 @@ pub fn bars(
     Ok(svg)
 }
 
-/// A table of values as coloured cells with their numbers (rows top to bottom), `height` px
-/// high; the colour runs from white (`good` or better) to red (`bad` or worse).
-pub fn heatmap(
+/// Tables of values as coloured cells with their numbers (rows top to bottom), one panel
+/// per `(title, values)` stacked vertically, `height` px high in all; the colour runs from
+/// white (`good` or better) to red (`bad` or worse).
+pub fn heatmaps(
     height: u32,
-    title: &str,
     rows: &[String],
     columns: &[String],
-    values: &[Vec<f64>],
+    panels: &[(&str, Vec<Vec<f64>>)],
     (good, bad): (f64, f64),
 ) -> Result<String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
+        let areas = root.split_evenly((panels.len().max(1), 1));
         let (nr, nc) = (rows.len() as f64, columns.len() as f64);
-        let mut c = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(30)
-            .y_label_area_size(170)
-            .build_cartesian_2d(0.0..nc, 0.0..nr)
-            .map_err(err)?;
         let label = |names: &[String], x: f64| {
             let i = (x - 0.5).round();
             if (x - 0.5 - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < names.len() {
@@ -245,36 +239,42 @@ pub fn heatmap(
             }
         };
         let reversed: Vec<String> = rows.iter().rev().cloned().collect();
-        c.configure_mesh()
-            .disable_mesh()
-            .x_labels(2 * columns.len() + 1)
-            .y_labels(2 * rows.len() + 1)
-            .x_label_formatter(&|x| label(columns, *x))
-            .y_label_formatter(&|y| label(&reversed, *y))
-            .draw()
-            .map_err(err)?;
-        for (r, row) in values.iter().enumerate() {
-            let y = nr - 1.0 - r as f64;
-            for (k, v) in row.iter().enumerate() {
-                let x = k as f64;
-                let w = if v.is_finite() {
-                    ((v - good) / (bad - good)).clamp(0.0, 1.0)
-                } else {
-                    1.0
-                };
-                let fill = RGBColor(255, (255.0 - 170.0 * w) as u8, (255.0 - 200.0 * w) as u8);
-                c.draw_series([Rectangle::new([(x, y), (x + 1.0, y + 1.0)], fill.filled())])
-                    .map_err(err)?;
-                c.draw_series([Text::new(
-                    if v.is_finite() {
+        for (area, (title, values)) in areas.iter().zip(panels) {
+            let mut c = ChartBuilder::on(area)
+                .caption(*title, ("sans-serif", 16))
+                .margin(8)
+                .x_label_area_size(25)
+                .y_label_area_size(170)
+                .build_cartesian_2d(0.0..nc, 0.0..nr)
+                .map_err(err)?;
+            c.configure_mesh()
+                .disable_mesh()
+                .x_labels(2 * columns.len() + 1)
+                .y_labels(2 * rows.len() + 1)
+                .x_label_formatter(&|x| label(columns, *x))
+                .y_label_formatter(&|y| label(&reversed, *y))
+                .draw()
+                .map_err(err)?;
+            for (r, row) in values.iter().enumerate() {
+                let y = nr - 1.0 - r as f64;
+                for (k, v) in row.iter().enumerate() {
+                    let x = k as f64;
+                    let w = if v.is_finite() {
+                        ((v - good) / (bad - good)).clamp(0.0, 1.0)
+                    } else {
+                        1.0
+                    };
+                    let fill = RGBColor(255, (255.0 - 170.0 * w) as u8, (255.0 - 200.0 * w) as u8);
+                    c.draw_series([Rectangle::new([(x, y), (x + 1.0, y + 1.0)], fill.filled())])
+                        .map_err(err)?;
+                    let text = if v.is_finite() {
                         format!("{v:.0}")
                     } else {
                         "-".into()
-                    },
-                    (x + 0.4, y + 0.6),
-                    ("sans-serif", 12),
-                )])
-                .map_err(err)?;
+                    };
+                    c.draw_series([Text::new(text, (x + 0.4, y + 0.6), ("sans-serif", 12))])
+                        .map_err(err)?;
+                }
             }
         }
         root.present().map_err(err)?;

@@ -611,7 +611,14 @@ impl Controller {
             );
             out.friction_observer_n = compensation;
         }
-        if c.features.residual_observer && compensation.is_finite() {
+        let at_rest = r.velocity_m_per_s == 0.0 && v_ref_mean == 0.0;
+        if c.features.residual_observer && at_rest {
+            // while the reference holds still the friction is reactive: there is no level to
+            // learn, and feeding the measured force back would soften the hold. The estimate
+            // relaxes so the next move starts from the model alone.
+            self.residual.update(0.0, 0.0, 0.0, c.residual_cutoff_hz, h);
+            self.last_model_compensation = compensation;
+        } else if c.features.residual_observer && compensation.is_finite() {
             // the friction that acted over the last period (force minus inertia) minus what
             // the model compensated then: the model's error, low-passed and bounded
             let missed = self.residual.update(

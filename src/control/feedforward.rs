@@ -11,6 +11,15 @@
 //! ```
 //!
 //! so the blend is exactly the feed-forward at standstill and fades in smoothly with speed.
+//!
+//! While the reference holds still, the model's bristle deflection relaxes to zero with time
+//! constant [`REST_RELAXATION_S`]: at rest the friction is whatever the position loop leaves
+//! on the bristles, not the last sliding level. Without it the model kept feeding the last
+//! move's Coulomb force through a whole dwell, the position integral wound up against it, and
+//! the next move started with a kick (point-to-point moves ran up to 80 um ahead).
+
+/// Time constant of the bristle relaxation while the reference is at rest [s].
+pub const REST_RELAXATION_S: f32 = 0.05;
 
 use crate::friction::{Conditions, FrictionModel, FrictionState};
 
@@ -34,6 +43,9 @@ impl Feedforward {
         c: &Conditions<f32>,
         h: f32,
     ) -> f32 {
+        if v_ref == 0.0 && v_ref_mean == 0.0 {
+            self.state.z *= libm::expf(-h / REST_RELAXATION_S);
+        }
         self.force = model.step_split(&mut self.state, v_ref_mean, v_ref, c, h);
         if !self.force.is_finite() {
             *self = Self::default();

@@ -215,12 +215,31 @@ fn robustness(a: &Args) -> Result<()> {
         super::write_json(p, &m)?;
     }
     if let Some(p) = &a.plot {
-        let svg = chart::heatmap(
-            60 + 32 * plants.len() as u32,
-            "low_speed: full controller RMS error as % of the plain cascade's",
+        let table = |config: &str| -> Vec<Vec<f64>> {
+            plants
+                .iter()
+                .map(|p| {
+                    rb::MODELS
+                        .iter()
+                        .map(|m| pct(p, m, config, "low_speed", |c| c.rms_err_m))
+                        .collect()
+                })
+                .collect()
+        };
+        let svg = chart::heatmaps(
+            2 * (50 + 30 * plants.len() as u32),
             &plants,
             &rb::MODELS.map(String::from),
-            &grid,
+            &[
+                (
+                    "low_speed RMS error, % of the plain cascade's: model feed-forward + LuGre observer",
+                    table("feedforward_observer"),
+                ),
+                (
+                    "... and full (+ residual observer, refinement)",
+                    grid,
+                ),
+            ],
             (20.0, 100.0),
         )?;
         super::write_text(p, &svg)?;
