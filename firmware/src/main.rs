@@ -1,7 +1,9 @@
 //! The lugre-servo controller at 1 kHz on an STM32F405, in QEMU.
 //!
 //! Runs 4 s of a low-speed sinusoid (2 mm, 0.5 Hz) with the full controller (feed-forward,
-//! observer, refinement) against an on-target plant model, measures the controller's cost per
+//! observer, residual observer, refinement) and the friction model of the parameter file the
+//! host tools wrote (`params.toml`, or `LUGRE_PARAMS`; validated at build time) against an
+//! on-target plant model with the true Table 2 friction, measures the controller's cost per
 //! tick with SysTick under `-icount shift=0` (calibrated against a block of 1000 `nop`s), prints
 //! the figures over semihosting and exits with success only if the axis tracked.
 
@@ -10,12 +12,17 @@
 
 mod plant;
 
+/// The friction model and mass of the parameter file (see build.rs: `LUGRE_PARAMS`).
+mod params {
+    include!(concat!(env!("OUT_DIR"), "/params.rs"));
+}
+
 use core::sync::atomic::{AtomicU32, Ordering};
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
+use lugre_servo::axis::AxisGeometry;
 use lugre_servo::control::{Controller, ControllerConfig, Features, Measurements, Reference};
-use lugre_servo::friction::{FrictionModel, LugreParams};
 
 #[cfg(feature = "defmt")]
 use defmt_rtt as _;
@@ -103,8 +110,12 @@ fn main() -> ! {
     let t1 = SYST::get_current();
     let per_1000 = elapsed(t0, t1).saturating_sub(empty).max(1);
 
-    let model = FrictionModel::plain(LugreParams::<f32>::table2());
-    let config = ControllerConfig::for_simulated_axis(model, Features::FULL);
+    // the identified model from the parameter file, on the simulated axis's geometry
+    let axis = AxisGeometry {
+        moving_mass_kg: params::MOVING_MASS_KG as f64,
+        ..AxisGeometry::SIMULATED
+    };
+    let config = ControllerConfig::for_axis(&axis, params::model(), Features::FULL);
     let mut ctrl = Controller::new(config);
     let mut plant = plant::Plant::new(0.25);
     let (amp, w) = (0.002f32, 2.0 * core::f32::consts::PI * 0.5);
@@ -151,6 +162,13 @@ fn main() -> ! {
     let rms = libm::sqrtf(sum_sq / count as f32);
     let mean_instr = (total_ticks as f32 / n as f32) * 1000.0 / per_1000 as f32;
     let worst_instr = worst_ticks as f32 * 1000.0 / per_1000 as f32;
+    hprintln!(
+        "parameters: {} (sigma0 {} N/m, Fc {} N, Fs {} N)",
+        params::SOURCE,
+        params::LUGRE[0],
+        params::LUGRE[3],
+        params::LUGRE[4]
+    );
     hprintln!(
         "calibration: {} SysTick counts per 1000 instructions",
         per_1000
