@@ -145,22 +145,29 @@ pub fn realistic_data(cfg: &PlantConfig, seed: u64) -> IdentData {
     realistic_data_with(cfg, SensorConfig::realistic(seed))
 }
 
-/// Both experiments of the realistic setting on the hydraulic simulator behind `sensors`.
+/// The realistic setting's dynamic experiment: a 0.6 mm, 0.5 Hz sinusoid for 2 s (what
+/// `host-sim simulate ident-sine` writes).
+pub fn dynamic_experiment(cfg: &PlantConfig, sensors: SensorConfig) -> Record {
+    experiments::sinusoid(cfg, sensors, 0.0006, 0.5, 2.0)
+}
+
+/// Both experiments of the realistic setting on the hydraulic simulator behind `sensors`,
+/// through the same record functions a measured sweep and dynamic record go through
+/// ([`steady_points_from_record`], [`dynamic_from_record`]): `host-sim simulate sweep` and
+/// `simulate ident-sine` written to CSV and read back by `identify --sweep --dynamic` give
+/// exactly these data.
 pub fn realistic_data_with(cfg: &PlantConfig, sensors: SensorConfig) -> IdentData {
-    let (_, points) = experiments::velocity_sweep(cfg, sensors, &sweep_speeds());
-    let rec = experiments::sinusoid(cfg, sensors, 0.0006, 0.5, 2.0);
-    let mut d = dynamic_from_record(
-        &rec,
-        cfg.cylinder.moving_mass_kg,
-        "simulated dynamic record",
-    )
-    .unwrap_or(IdentData {
+    let mass = cfg.cylinder.moving_mass_kg;
+    let (sweep, _) = experiments::velocity_sweep(cfg, sensors, &sweep_speeds());
+    let empty = IdentData {
         points: vec![],
         velocity: vec![],
         force: vec![],
         dt: 1e-3,
-    });
-    d.points = points;
+    };
+    let mut d = dynamic_from_record(&dynamic_experiment(cfg, sensors), mass, "simulated dynamic")
+        .unwrap_or(empty);
+    d.points = steady_points_from_record(&sweep, mass, "simulated sweep").unwrap_or_default();
     d
 }
 
@@ -169,10 +176,28 @@ pub fn realistic_data_with(cfg: &PlantConfig, sensors: SensorConfig) -> IdentDat
 /// a low-pass would smear the stick at each reversal over several samples: measured, it
 /// biased sigma0 by -30 % instead of -24 %); friction = force - M a with the acceleration from
 /// the 100 Hz zero-phase low-passed position.
+///
+/// A logger's irregular timing is repaired first ([`crate::timing::uniform`]); of a record
+/// split at logger gaps, the longest stretch is used (the model's state cannot be carried
+/// across a gap).
 pub fn dynamic_from_record(rec: &Record, mass: f64, name: &str) -> Result<IdentData> {
     let protocol = Protocol {
         position_cutoff_hz: 100.0,
         parallel_cutoff_hz: 100.0,
+    };
+    let uniform = crate::timing::uniform(rec, name)?;
+    let longest = uniform
+        .segments
+        .iter()
+        .max_by_key(|r| r.len())
+        .cloned()
+        .unwrap_or(0..uniform.record.len());
+    let u = &uniform.record;
+    let rec = &Record {
+        t: u.t[longest.clone()].to_vec(),
+        x: u.x[longest.clone()].to_vec(),
+        force: u.force[longest].to_vec(),
+        ..Default::default()
     };
     let p = Prepared::new(rec, name, protocol)?;
     let force = rec

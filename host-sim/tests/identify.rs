@@ -168,3 +168,200 @@ fn bad_identification_data_is_refused() {
         .to_string();
     assert!(e.contains("no motion"), "{e}");
 }
+
+fn host_sim(dir: &Path, args: &[&str]) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_host-sim"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}{text}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    text
+}
+
+/// The measured-data path end to end: the realistic identification's two experiments written
+/// as CSV by `simulate`, read back by `identify --sweep --dynamic`, give the same data and the
+/// same parameters as the in-memory run.
+#[test]
+fn simulated_records_through_files_give_the_in_memory_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    host_sim(
+        d,
+        &[
+            "simulate",
+            "sweep",
+            "--out",
+            "s.csv",
+            "--noise",
+            "realistic",
+            "--seed",
+            "3",
+        ],
+    );
+    host_sim(
+        d,
+        &[
+            "simulate",
+            "ident-sine",
+            "--out",
+            "d.csv",
+            "--noise",
+            "realistic",
+            "--seed",
+            "3",
+        ],
+    );
+    let sweep = Record::read(&d.join("s.csv")).unwrap();
+    let dynamic = Record::read(&d.join("d.csv")).unwrap();
+    let mut from_files = identify::dynamic_from_record(&dynamic, 200.0, "d.csv").unwrap();
+    from_files.points = identify::steady_points_from_record(&sweep, 200.0, "s.csv").unwrap();
+    let in_memory = identify::realistic_data(&host_sim::plant::PlantConfig::default(), 3);
+    assert_eq!(from_files.points, in_memory.points);
+    assert_eq!(from_files.velocity, in_memory.velocity);
+    assert_eq!(from_files.force, in_memory.force);
+    assert_eq!(from_files.dt, in_memory.dt);
+    host_sim(
+        d,
+        &[
+            "identify",
+            "--sweep",
+            "s.csv",
+            "--dynamic",
+            "d.csv",
+            "--out",
+            "p.toml",
+        ],
+    );
+    let (file, _) = ParamFile::read(&d.join("p.toml")).unwrap();
+    let r = identify::identify(Algorithm::Improved, &in_memory, 1, None);
+    let p = identify::params_of(&r).unwrap();
+    let l = file.lugre;
+    assert_eq!(
+        [
+            l.bristle_stiffness_n_per_m,
+            l.viscous_coefficient_n_s_per_m,
+            l.coulomb_force_n,
+            l.static_force_n,
+            l.stribeck_velocity_m_per_s
+        ],
+        [
+            p.bristle_stiffness(),
+            p.viscous_coefficient(),
+            p.coulomb_force(),
+            p.static_force(),
+            p.stribeck_velocity()
+        ]
+    );
+}
+
+/// A record with a rig logger's habits goes through: a header with extra columns (one of them
+/// text), optional channels missing, and a first sample off the grid.
+#[test]
+fn records_with_rig_habits_go_through_identification() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    host_sim(
+        d,
+        &[
+            "simulate",
+            "sweep",
+            "--out",
+            "s.csv",
+            "--noise",
+            "realistic",
+            "--seed",
+            "4",
+        ],
+    );
+    host_sim(
+        d,
+        &[
+            "simulate",
+            "ident-sine",
+            "--out",
+            "d.csv",
+            "--noise",
+            "realistic",
+            "--seed",
+            "4",
+        ],
+    );
+    host_sim(
+        d,
+        &[
+            "identify",
+            "--sweep",
+            "s.csv",
+            "--dynamic",
+            "d.csv",
+            "--out",
+            "clean.toml",
+        ],
+    );
+    for name in ["s.csv", "d.csv"] {
+        let rec = Record::read(&d.join(name)).unwrap();
+        let mut text = String::from("# logger=rig-pc v2.1\nstatus,t,x,force,valve_cmd");
+        let x_ref = rec.x_ref.as_ref().filter(|_| name == "s.csv");
+        if x_ref.is_some() {
+            text += ",x_ref";
+        }
+        text += "\n";
+        for i in 0..rec.len() {
+            // the logger's first interval is 1.4 periods, the second 0.6
+            let t = if i == 1 { rec.t[1] + 0.4e-3 } else { rec.t[i] };
+            text += &format!("OK,{t},{},{},{}", rec.x[i], rec.force[i], 0.01 * i as f64);
+            if let Some(r) = x_ref {
+                text += &format!(",{}", r[i]);
+            }
+            text += "\n";
+        }
+        std::fs::write(d.join(format!("rig-{name}")), text).unwrap();
+    }
+    let out = host_sim(
+        d,
+        &[
+            "identify",
+            "--sweep",
+            "rig-s.csv",
+            "--dynamic",
+            "rig-d.csv",
+            "--out",
+            "rig.toml",
+        ],
+    );
+    assert!(out.contains("wrote rig.toml"), "{out}");
+    let (clean, _) = ParamFile::read(&d.join("clean.toml")).unwrap();
+    let (rig, _) = ParamFile::read(&d.join("rig.toml")).unwrap();
+    let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol * b.abs();
+    let (c, r) = (clean.lugre, rig.lugre);
+    assert!(
+        close(r.coulomb_force_n, c.coulomb_force_n, 1e-3),
+        "{r:?} vs {c:?}"
+    );
+    assert!(
+        close(r.static_force_n, c.static_force_n, 1e-3),
+        "{r:?} vs {c:?}"
+    );
+    assert!(
+        close(
+            r.viscous_coefficient_n_s_per_m,
+            c.viscous_coefficient_n_s_per_m,
+            1e-3
+        ),
+        "{r:?} vs {c:?}"
+    );
+    assert!(
+        close(
+            r.bristle_stiffness_n_per_m,
+            c.bristle_stiffness_n_per_m,
+            0.1
+        ),
+        "{r:?} vs {c:?}"
+    );
+}
