@@ -76,10 +76,10 @@ fn main() {
         {
             for a in 0..levels.len() {
                 for b in a + 1..levels.len() {
-                    let (ya, sa) = levels[a].level(name).unwrap_or_default();
-                    let (yb, sb) = levels[b].level(name).unwrap_or_default();
+                    let (ya, ha) = levels[a].interval95(name).unwrap_or_default();
+                    let (yb, hb) = levels[b].interval95(name).unwrap_or_default();
                     pairs[j] += 1;
-                    overlap[j] += usize::from((ya - yb).abs() <= 1.96 * (sa + sb));
+                    overlap[j] += usize::from((ya - yb).abs() <= ha + hb);
                 }
             }
         }

@@ -205,7 +205,10 @@ fn run_across(a: &Args, files: &[PathBuf]) -> Result<()> {
         let levels: Vec<String> = r
             .levels
             .iter()
-            .map(|(k, v, se)| format!("{k} {:.4} +- {:.2e}", v, 1.96 * se))
+            .map(|(k, v, se)| {
+                let half = diagnose::across::half_width95(*se);
+                format!("{k} {v:.4} +- {half:.2e}")
+            })
             .collect();
         println!(
             "  {}: {} | {} | error {:.2} %",
