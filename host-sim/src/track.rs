@@ -3,7 +3,8 @@
 //!
 //! * `low_speed`: `x_ref = 0.25 m + 2 mm sin(2 pi 0.2 Hz t)` for 20 s (peak 2.5 mm/s, half the
 //!   Stribeck velocity; 8 reversals), Table 2 plant, realistic sensors. Configurations: plain
-//!   cascade (`pid`), + feed-forward, + observer, and everything with refinement (`full`).
+//!   cascade (`pid`), + feed-forward, + observer, and everything (`full`: + the residual
+//!   observer and the refinement).
 //! * `drift`: `x_ref = 0.25 m + 50 mm sin(2 pi 0.4 Hz t)` for 60 s while the oil warms by
 //!   ~18 K (plant `temperature_dependence`: sigma2 falls ~30 %, Fc rises ~18 %); the
 //!   controller knows Table 2 only. `no_drift` (plant without the effect), `fixed`

@@ -144,6 +144,35 @@ fn closed_loop_chapter(out: &Path) -> Result<()> {
     let plot = out.join("tracking.svg");
     let json = out.join("track.json");
     super::track::benchmark(Some(&json), Some(&plot), 1)?;
+    // a user's model is never exact: friction levels 30 % too high
+    use host_sim::robustness::{model, Scenario};
+    use lugre_servo::control::{ControllerConfig, Features};
+    let plant = PlantConfig::default();
+    let table2 = lugre_servo::friction::LugreParams::table2();
+    let wrong = model("static_x1.3", &plant, &table2)
+        .and_then(|m| m.cast().ok())
+        .ok_or(Error::InvalidIdentifiedSet)?;
+    let s = Scenario::LowSpeed;
+    let rms = |f| {
+        let cfg = ControllerConfig::for_simulated_axis(wrong, f);
+        let r = host_sim::track::run(
+            &plant,
+            SensorConfig::realistic(1),
+            cfg,
+            &|t| s.reference(t),
+            s.duration_s(),
+        );
+        r.tracking.rms_err_m * 1e6
+    };
+    let without = Features {
+        residual_observer: false,
+        ..Features::FULL
+    };
+    println!(
+        "  with Fc, Fs and sigma2 30 % too high in the controller: low_speed rms {:.1} um without the residual observer, {:.1} um with it (full); `track --robustness` runs the whole matrix",
+        rms(without),
+        rms(Features::FULL)
+    );
     println!("  (the same controller runs on the STM32F405 in QEMU: see firmware/ and .ci/run)");
     Ok(())
 }
