@@ -27,7 +27,7 @@ use crate::plant::{PlantConfig, SensorConfig};
 use crate::record::Record;
 use lugre_servo::friction::{LugreParams, LugreState};
 use lugre_servo::identify::cost::{self, DynamicRecord, SteadyPoint};
-use lugre_servo::identify::ga::{Ga, GaConfig, Strategy};
+use lugre_servo::identify::ga::{Ga, GaConfig, Strategy, HANDOVER_BUDGET_PER_GENE};
 use lugre_servo::identify::{Bounds, DYNAMIC_BOUNDS, STATIC_BOUNDS};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -473,6 +473,28 @@ fn minimise<const N: usize>(
                 ga.tell(&costs, &mut rng);
                 if first_good.is_none() && good(ga.best().0) {
                     first_good = Some(evals);
+                }
+                if strategy == Strategy::Improved && ga.late_stage_began() {
+                    // hand-over: the simplex from the gathered population's best, every
+                    // evaluation counted and checked like the GA's
+                    let mut best = ga.best().1;
+                    let r = lugre_servo::identify::simplex::polish(
+                        |g: &[f64; N]| {
+                            let c = cost(g);
+                            evals += 1;
+                            if c < best {
+                                best = c;
+                                if first_good.is_none() && good(g) {
+                                    first_good = Some(evals);
+                                }
+                            }
+                            c
+                        },
+                        ga.best().0,
+                        &ga.spread_about_best(),
+                        HANDOVER_BUDGET_PER_GENE * N,
+                    );
+                    ga.offer(&r.best, r.cost);
                 }
             }
             let (g, c) = ga.best();

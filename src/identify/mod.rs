@@ -11,6 +11,7 @@
 
 pub mod cost;
 pub mod ga;
+pub mod simplex;
 
 /// Search ranges: gene `g` in [0, 1] maps to `lo + g (hi - lo)` (or log-uniformly).
 #[derive(Clone, Copy, Debug, PartialEq)]
