@@ -282,6 +282,49 @@ pub fn heatmaps(
     Ok(svg)
 }
 
+/// Points with vertical 95 % intervals `(x, y, half_width)` and an optional fitted line
+/// through `line = (x0, y0, slope)`, `height` px high.
+pub fn intervals(
+    height: u32,
+    frame: &Frame,
+    points: &[(f64, f64, f64)],
+    line: Option<(f64, f64, f64)>,
+) -> Result<String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let mut c = ChartBuilder::on(&root)
+            .caption(frame.title, ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(70)
+            .build_cartesian_2d(frame.x.0..frame.x.1, frame.y.0..frame.y.1)
+            .map_err(err)?;
+        c.configure_mesh()
+            .x_desc(frame.x_desc)
+            .y_desc(frame.y_desc)
+            .draw()
+            .map_err(err)?;
+        if let Some((x0, y0, slope)) = line {
+            let (a, b) = frame.x;
+            c.draw_series(LineSeries::new(
+                [(a, y0 + slope * (a - x0)), (b, y0 + slope * (b - x0))],
+                FINAL_MODEL.stroke_width(2),
+            ))
+            .map_err(err)?;
+        }
+        c.draw_series(
+            points
+                .iter()
+                .map(|&(x, y, h)| ErrorBar::new_vertical(x, y - h, y, y + h, MEASURED.filled(), 8)),
+        )
+        .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
 /// The range of finite values with 5 % padding ((-1, 1) when there are none).
 pub fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = v

@@ -137,6 +137,11 @@ fn pressure_case(seed: u64, dependent: bool) {
         .unwrap();
     println!("true {:.3} N/bar: {}", seal.coulomb_per_bar, t.sentence());
     assert_eq!(t.significant, dependent, "{}", t.sentence());
+    // the report: one chart per trend, each with its verdict, and every record in the table
+    let html = host_sim::diagnose::report::across_html(&a);
+    assert_eq!(html.matches("<svg").count(), a.trends.len());
+    assert!(html.contains(&t.sentence().replace('&', "&amp;")));
+    assert!(a.records.iter().all(|r| html.contains(&r.name)));
     assert!(
         t.ci_low <= seal.coulomb_per_bar && seal.coulomb_per_bar <= t.ci_high,
         "true {} outside {}",

@@ -229,6 +229,9 @@ fn run_across(a: &Args, files: &[PathBuf]) -> Result<()> {
     if let Some(path) = &a.json {
         super::write_json(path, &across)?;
     }
+    if let Some(path) = &a.report {
+        super::write_text(path, &diagnose::report::across_html(&across))?;
+    }
     Ok(())
 }
 

@@ -139,6 +139,99 @@ fn table(rows: &[Vec<String>], head: &[&str]) -> String {
     s + "</table>"
 }
 
+/// The page of a diagnosis across records: each friction level against each condition that
+/// varies, every record with its 95 % interval, the least-squares line and its verdict in
+/// words; then every record's levels.
+pub fn across_html(a: &super::across::Across) -> String {
+    across_page(a).unwrap_or_else(|e| {
+        format!(
+            "<!doctype html><html><body><p>report failed: {}</p></body></html>",
+            escape(&e.to_string())
+        )
+    })
+}
+
+fn across_page(a: &super::across::Across) -> Result<String> {
+    let mut out = String::from(
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>lugre-servo: friction across records</title><style>\
+         body{font-family:sans-serif;max-width:960px;margin:2em auto;color:#222}\
+         table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 8px;text-align:left}\
+         .sig{color:#1b7837;font-weight:bold}</style></head><body>",
+    );
+    out += &format!(
+        "<h1>Friction across {} records of one axis</h1>",
+        a.records.len()
+    );
+    for t in &a.trends {
+        let points: Vec<(f64, f64, f64)> = a
+            .records
+            .iter()
+            .filter_map(|r| {
+                let x = r.condition(&t.condition)?;
+                let (y, h) = r.interval95(&t.level)?;
+                Some((x, y, h))
+            })
+            .collect();
+        let x = chart::range(points.iter().map(|p| p.0));
+        let y = chart::range(points.iter().flat_map(|p| [p.1 - p.2, p.1 + p.2]));
+        let x_mean = crate::stats::mean(&points.iter().map(|p| p.0).collect::<Vec<_>>());
+        let title = format!("{} against {}", t.level, t.condition);
+        out += &format!(
+            "<h2>{}</h2><p class=\"{}\">{}</p>",
+            escape(&title),
+            if t.significant { "sig" } else { "" },
+            escape(&t.sentence())
+        );
+        out += &chart::intervals(
+            H,
+            &Frame {
+                title: &title,
+                x_desc: &t.condition,
+                y_desc: &t.level,
+                x,
+                y,
+            },
+            &points,
+            Some((x_mean, t.mean_level, t.slope)),
+        )?;
+    }
+    if a.trends.is_empty() {
+        out += "<p>No condition varies across these records.</p>";
+    }
+    out += "<h2>Records</h2><p>Levels with 95 % intervals (block jackknife, Student's t).</p>";
+    let rows: Vec<Vec<String>> = a
+        .records
+        .iter()
+        .map(|r| {
+            let conds: Vec<String> = r
+                .conditions
+                .iter()
+                .map(|(k, v)| format!("{k} {}", crate::timing::sig3(*v)))
+                .collect();
+            let levels: Vec<String> = r
+                .levels
+                .iter()
+                .map(|(k, v, se)| {
+                    format!(
+                        "{k} {} +- {}",
+                        crate::timing::sig3(*v),
+                        crate::timing::sig3(super::across::half_width95(*se))
+                    )
+                })
+                .collect();
+            vec![
+                r.name.clone(),
+                conds.join(", "),
+                levels.join(", "),
+                format!("{:.2} %", r.rel_err_pct),
+            ]
+        })
+        .collect();
+    out += &table(&rows, &["record", "conditions", "levels", "fit error"]);
+    out += "</body></html>";
+    Ok(out)
+}
+
 /// The whole page.
 pub fn html(d: &Diagnosis, name: &str, validation: Option<f64>) -> String {
     match page(d, name, validation) {
