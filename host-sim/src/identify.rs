@@ -19,12 +19,12 @@
 //! stage), or null if either never gets there: as if each stage stopped as soon as it was good
 //! enough, applied equally to every algorithm.
 
-use crate::diagnose::fit::integrated_autocorrelation_time;
 use crate::diagnose::inverse::{Prepared, Protocol};
 use crate::error::{DataProblem, Error, Result};
 use crate::experiments;
 use crate::plant::{PlantConfig, SensorConfig};
 use crate::record::Record;
+use crate::signal::integrated_autocorrelation_time;
 use lugre_servo::friction::{LugreParams, LugreState};
 use lugre_servo::identify::cost::{self, DynamicRecord, SteadyPoint};
 use lugre_servo::identify::ga::{Ga, GaConfig, Strategy, HANDOVER_BUDGET_PER_GENE};

@@ -14,6 +14,7 @@ pub mod plant;
 pub mod record;
 pub mod robustness;
 pub mod scenarios;
+pub mod signal;
 pub mod stats;
 pub mod timing;
 pub mod track;

@@ -21,6 +21,7 @@
 //! along the motion, not from the linearisation.
 
 use super::inverse::{AxisModel, Prepared, Simulation};
+use crate::signal::integrated_autocorrelation_time;
 use lugre_servo::friction::effects as fx;
 use lugre_servo::friction::LugreParams;
 use nalgebra::{DMatrix, DVector};
@@ -179,31 +180,6 @@ pub fn residual_effective_samples(p: &Prepared, predicted: &[f64]) -> f64 {
     // tau counts strided samples: in full-rate samples it is LS_STRIDE times larger
     (p.weight.iter().sum::<f64>() / (integrated_autocorrelation_time(&r) * LS_STRIDE as f64))
         .max(10.0)
-}
-
-/// Integrated autocorrelation time `tau_int = 1 + 2 sum_k rho_k` of a residual series (summed
-/// until the autocorrelation first drops below 0.05): a series of `N` samples carries about
-/// `N / tau_int` independent ones.
-pub fn integrated_autocorrelation_time(r: &[f64]) -> f64 {
-    let n = r.len();
-    let var: f64 = r.iter().map(|x| x * x).sum();
-    if var <= 0.0 {
-        return 1.0;
-    }
-    let mut tau = 1.0;
-    for lag in 1..n.min(2000) {
-        let rho = r[lag..]
-            .iter()
-            .zip(&r[..n - lag])
-            .map(|(a, b)| a * b)
-            .sum::<f64>()
-            / var;
-        if rho < 0.05 {
-            break;
-        }
-        tau += 2.0 * rho;
-    }
-    tau
 }
 
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).

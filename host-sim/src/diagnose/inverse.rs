@@ -7,9 +7,9 @@
 //! same zero-phase "parallel" low-pass (20 Hz), so that measurement and model are compared in
 //! the same band. The relative force error is `100 ||F - F_hat|| / ||F||` on those columns.
 
-use super::filter::LowPass;
 use crate::error::{DataProblem, Error, Result};
 use crate::record::Record;
+use crate::signal::{central_difference, segmented, LowPass};
 use lugre_servo::friction::{Conditions, FrictionModel, FrictionState};
 
 /// Filter settings of the inverse model.
@@ -269,34 +269,6 @@ impl Prepared {
                 .map_or(reference.temperature, |t| t[i]),
         }
     }
-}
-
-/// Zero-phase filtering of each column, segment by segment (never across a logger gap).
-fn segmented(f: &LowPass, segments: &[std::ops::Range<usize>], xs: &[&[f64]]) -> Vec<Vec<f64>> {
-    if let [whole] = segments {
-        if whole.start == 0 && xs.iter().all(|x| x.len() == whole.end) {
-            return f.filtfilt_many(xs);
-        }
-    }
-    let mut out: Vec<Vec<f64>> = xs.iter().map(|x| Vec::with_capacity(x.len())).collect();
-    for r in segments {
-        let parts: Vec<&[f64]> = xs.iter().map(|x| &x[r.clone()]).collect();
-        for (o, y) in out.iter_mut().zip(f.filtfilt_many(&parts)) {
-            o.extend(y);
-        }
-    }
-    out
-}
-
-fn central_difference(x: &[f64], dt: f64) -> Vec<f64> {
-    let n = x.len();
-    let mut d = vec![0.0; n];
-    for i in 1..n - 1 {
-        d[i] = (x[i + 1] - x[i - 1]) / (2.0 * dt);
-    }
-    d[0] = (x[1] - x[0]) / dt;
-    d[n - 1] = (x[n - 1] - x[n - 2]) / dt;
-    d
 }
 
 /// A model of the axis: mass and friction (with effects).

@@ -17,7 +17,6 @@
 //! grid-searched parameter, the profile interval `N_eff ln(RSS / RSS_min) <= 3.84`).
 
 pub mod across;
-pub mod filter;
 pub mod fit;
 pub mod inverse;
 pub mod regimes;

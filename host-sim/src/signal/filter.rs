@@ -136,6 +136,23 @@ impl LowPass {
     }
 }
 
+/// Zero-phase filtering of each column, segment by segment (never across a logger gap).
+pub fn segmented(f: &LowPass, segments: &[std::ops::Range<usize>], xs: &[&[f64]]) -> Vec<Vec<f64>> {
+    if let [whole] = segments {
+        if whole.start == 0 && xs.iter().all(|x| x.len() == whole.end) {
+            return f.filtfilt_many(xs);
+        }
+    }
+    let mut out: Vec<Vec<f64>> = xs.iter().map(|x| Vec::with_capacity(x.len())).collect();
+    for r in segments {
+        let parts: Vec<&[f64]> = xs.iter().map(|x| &x[r.clone()]).collect();
+        for (o, y) in out.iter_mut().zip(f.filtfilt_many(&parts)) {
+            o.extend(y);
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
