@@ -139,6 +139,96 @@ fn table(rows: &[Vec<String>], head: &[&str]) -> String {
     s + "</table>"
 }
 
+/// A number for a table: three significant digits, in exponent form when very large or small.
+fn num(v: f64) -> String {
+    if v != 0.0 && (v.abs() >= 1e5 || v.abs() < 1e-3) {
+        format!("{v:.3e}")
+    } else {
+        crate::timing::sig3(v)
+    }
+}
+
+/// The final model's rows: every parameter-file entry with its interval and status.
+fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
+    let m = &fit.model;
+    let file = crate::params_file::ParamFile::new(&m.friction, m.mass_kg);
+    let mut entries: Vec<(String, String, f64)> = Vec::new();
+    let mut push = |section: &str, value: toml::Value| {
+        if let toml::Value::Table(t) = value {
+            for (k, v) in t {
+                match v {
+                    toml::Value::Float(x) => entries.push((section.to_string(), k, x)),
+                    toml::Value::Integer(i) => entries.push((section.to_string(), k, i as f64)),
+                    toml::Value::Array(a) => {
+                        for (j, x) in a.iter().enumerate() {
+                            if let Some(x) = x.as_float() {
+                                entries.push((section.to_string(), format!("{k}[{j}]"), x));
+                            }
+                        }
+                    }
+                    toml::Value::Table(_) => push_nested(&mut entries, section, &k, v),
+                    _ => {}
+                }
+            }
+        }
+    };
+    fn push_nested(
+        entries: &mut Vec<(String, String, f64)>,
+        section: &str,
+        name: &str,
+        v: toml::Value,
+    ) {
+        if let toml::Value::Table(t) = v {
+            for (k, v) in t {
+                if let Some(x) = v.as_float().or(v.as_integer().map(|i| i as f64)) {
+                    entries.push((format!("{section}.{name}"), k, x));
+                } else if let toml::Value::Array(a) = v {
+                    for (j, x) in a.iter().enumerate() {
+                        if let Some(x) = x.as_float() {
+                            entries.push((format!("{section}.{name}"), format!("{k}[{j}]"), x));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    for (section, value) in [
+        ("lugre", toml::Value::try_from(file.lugre)),
+        ("axis", toml::Value::try_from(file.axis)),
+        ("effects", toml::Value::try_from(&file.effects)),
+    ] {
+        if let Ok(v) = value {
+            push(section, v);
+        }
+    }
+    entries
+        .into_iter()
+        .map(|(section, key, value)| {
+            let estimate = fit.estimates.iter().find(|e| e.param.label() == key);
+            let prior = fit.flags.priors.iter().find(|p| p.0 == key);
+            let edge = fit.flags.at_search_edge.iter().find(|p| p.0 == key);
+            let interval = estimate.map_or(String::new(), |e| {
+                let h = 1.96 * e.std_error;
+                format!(
+                    "{} .. {}",
+                    crate::timing::sig3(e.value - h),
+                    crate::timing::sig3(e.value + h)
+                )
+            });
+            let status = if let Some(p) = prior {
+                format!("prior: {}", p.1)
+            } else if edge.is_some() {
+                "at the edge of its search range".into()
+            } else if estimate.is_some() {
+                "fitted".into()
+            } else {
+                "fitted (nonlinear search) or fixed by the effect".into()
+            };
+            vec![section, key, num(value), interval, status]
+        })
+        .collect()
+}
+
 /// The page of a diagnosis across records: each friction level against each condition that
 /// varies, every record with its 95 % interval, the least-squares line and its verdict in
 /// words; then every record's levels.
@@ -357,42 +447,12 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
             "parameters (95 % interval)",
         ],
     );
-    let m = &last.fit.model;
-    let q = &m.friction.params;
-    out += "<h2>Final model</h2>";
+    out += "<h2>Final model</h2><p>Every parameter of the model the record ends with, in the \
+            parameter file's names and units; the 95 % interval where the fit determined it, and \
+            what it is where it did not.</p>";
     out += &table(
-        &[
-            vec!["moving mass M".into(), format!("{:.2} kg", m.mass_kg)],
-            vec![
-                "Coulomb force Fc".into(),
-                format!("{:.2} N", q.coulomb_force()),
-            ],
-            vec![
-                "static force Fs".into(),
-                format!("{:.2} N", q.static_force()),
-            ],
-            vec![
-                "viscous sigma2".into(),
-                format!("{:.1} N s/m", q.viscous_coefficient()),
-            ],
-            vec![
-                "Stribeck velocity vs".into(),
-                format!("{:.2} mm/s", q.stribeck_velocity() * 1e3),
-            ],
-            vec![
-                "bristle stiffness sigma0".into(),
-                format!("{:.3e} N/m", q.bristle_stiffness()),
-            ],
-            vec![
-                "effects".into(),
-                d.stages[1..]
-                    .iter()
-                    .map(|s| s.label.trim_start_matches("+ ").to_string())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            ],
-        ],
-        &["parameter", "value"],
+        &model_rows(&last.fit),
+        &["section", "parameter", "value", "95 % interval", "status"],
     );
     out += "</body></html>";
     Ok(out)
