@@ -127,3 +127,35 @@ fn cli_reports_errors_without_panicking() {
     assert!(err.contains("p.toml:2:"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The report is one self-contained page: every chart inline, the zoom script inline, nothing
+/// fetched from a network; the final model table names each added effect's parameters.
+#[test]
+fn the_report_is_self_contained_and_lists_the_whole_model() {
+    let mut cfg = host_sim::plant::PlantConfig::default();
+    host_sim::scenarios::with_effect(&mut cfg, "asymmetry", 1.0).unwrap();
+    let rec =
+        host_sim::scenarios::diagnosis_run(&cfg, host_sim::plant::SensorConfig::realistic(3), 12.0);
+    let opts = Options {
+        add: vec!["asymmetry".into()],
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "r.csv", &opts).unwrap();
+    let html = diagnose::report::html(&d, "r.csv", None);
+    // error history, force over time, residual vs velocity (two panels), regime bias
+    assert_eq!(html.matches("<svg").count(), 4);
+    assert_eq!(html.matches("class=\"zoom\"").count(), 2);
+    assert!(html.contains("addEventListener('wheel'"));
+    for remote in ["src=\"http", "href=\"http", "@import", "<link"] {
+        assert!(!html.contains(remote), "{remote}");
+    }
+    for entry in [
+        "effects.asymmetry",
+        "coulomb_ratio",
+        "viscous_ratio",
+        "bristle_stiffness_n_per_m",
+        "moving_mass_kg",
+    ] {
+        assert!(html.contains(entry), "{entry}");
+    }
+}

@@ -139,6 +139,22 @@ fn table(rows: &[Vec<String>], head: &[&str]) -> String {
     s + "</table>"
 }
 
+/// Wheel zoom, drag pan and double-click reset for the SVG charts inside `.zoom` blocks, by
+/// moving each SVG's viewBox: self-contained, works offline (no library, no network).
+const ZOOM_SCRIPT: &str = "<script>\
+document.querySelectorAll('.zoom svg').forEach(function(s){\
+var w=s.viewBox.baseVal.width,h=s.viewBox.baseVal.height,v=[0,0,w,h],drag=null;\
+function set(){s.setAttribute('viewBox',v.join(' '));}\
+function at(e){var r=s.getBoundingClientRect();return[v[0]+(e.clientX-r.left)/r.width*v[2],v[1]+(e.clientY-r.top)/r.height*v[3]];}\
+s.addEventListener('wheel',function(e){e.preventDefault();var p=at(e),k=e.deltaY<0?0.8:1.25;\
+v=[p[0]-(p[0]-v[0])*k,p[1]-(p[1]-v[1])*k,v[2]*k,v[3]*k];set();});\
+s.addEventListener('mousedown',function(e){drag=at(e);});\
+window.addEventListener('mouseup',function(){drag=null;});\
+s.addEventListener('mousemove',function(e){if(!drag)return;var p=at(e);v[0]-=p[0]-drag[0];v[1]-=p[1]-drag[1];set();});\
+s.addEventListener('dblclick',function(){v=[0,0,w,h];set();});\
+s.style.cursor='zoom-in';});\
+</script>";
+
 /// A number for a table: three significant digits, in exponent form when very large or small.
 fn num(v: f64) -> String {
     if v != 0.0 && (v.abs() >= 1e5 || v.abs() < 1e-3) {
@@ -404,8 +420,16 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         }],
         d.noise_floor_pct,
     )?;
-    out += &force_over_time(d, &pred_first, &pred_last)?;
-    out += &residual_vs_velocity(d, &pred_first, &pred_last)?;
+    out += "<p>The next two charts zoom: mouse wheel over a point, drag to pan, double-click \
+            to reset.</p>";
+    out += &format!(
+        "<div class=\"zoom\">{}</div>",
+        force_over_time(d, &pred_first, &pred_last)?
+    );
+    out += &format!(
+        "<div class=\"zoom\">{}</div>",
+        residual_vs_velocity(d, &pred_first, &pred_last)?
+    );
     out += "<p>Green: moving in +x, purple: moving in -x.</p>";
     out += &regime_bias(first, last)?;
     out += "<h2>Which effect is missing (next candidates, best first)</h2>";
@@ -454,6 +478,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         &model_rows(&last.fit),
         &["section", "parameter", "value", "95 % interval", "status"],
     );
+    out += ZOOM_SCRIPT;
     out += "</body></html>";
     Ok(out)
 }
