@@ -97,6 +97,10 @@ pub struct Estimate {
 pub struct Fit {
     /// The fitted model.
     pub model: AxisModel,
+    /// The model's force along the record as the fit scored it (simulated, then filtered like
+    /// the measured force) [N]: kept, so the stage, the regimes and the report use it instead
+    /// of simulating the model again.
+    pub prediction: Vec<f64>,
     /// Relative force error over the samples where the axis moves [%].
     pub rel_err_pct: f64,
     /// Relative force error over every sample, stuck ones included [%].
@@ -167,12 +171,11 @@ pub fn effective_samples(p: &Prepared, parallel_cutoff_hz: f64) -> f64 {
 /// scored samples (summed until the autocorrelation first drops below 0.05). A residual that
 /// is mostly slow model mismatch carries less independent information than its bandwidth
 /// suggests; using this keeps the information criterion from mistaking structure for evidence.
-pub fn residual_effective_samples(p: &Prepared, predicted: &[f64]) -> f64 {
-    let filtered = p.filter(predicted);
+pub fn residual_effective_samples(p: &Prepared, filtered: &[f64]) -> f64 {
     let r: Vec<f64> = p
         .force
         .iter()
-        .zip(&filtered)
+        .zip(filtered)
         .zip(&p.weight)
         .map(|((f, q), w)| w * (f - q))
         .step_by(LS_STRIDE) // band-limited to 20 Hz: every 4th sample keeps the correlation
@@ -265,6 +268,7 @@ fn refit_iterations(
         .collect();
     Fit {
         rel_err_all_pct: p.rel_err_all_pct_filtered(&pred),
+        prediction: pred,
         model,
         rel_err_pct: 100.0 * rss.sqrt() / p.force_norm,
         rss,

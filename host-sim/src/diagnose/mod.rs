@@ -638,7 +638,7 @@ pub fn rank_candidates(
         .filter_map(|c| c.fit.as_ref())
         .min_by(|a, b| a.rss.total_cmp(&b.rss));
     let n_c = best.map_or(n_eff, |f| {
-        n_eff.min(fit::residual_effective_samples(p, &f.model.predict(p)))
+        n_eff.min(fit::residual_effective_samples(p, &f.prediction))
     });
     let judged: Vec<Candidate> = out
         .par_iter()
@@ -893,8 +893,11 @@ fn stage(
     n_eff: f64,
     rank: bool,
 ) -> Stage {
-    let predicted = fit.model.predict(p);
-    let regimes = regimes::analyse(p, &predicted, fit.model.friction.params.stribeck_velocity());
+    let regimes = regimes::analyse(
+        p,
+        &fit.prediction,
+        fit.model.friction.params.stribeck_velocity(),
+    );
     let candidates = if rank {
         rank_candidates(p, &fit, fixed_mass, n_eff)
     } else {

@@ -82,9 +82,9 @@ fn bins(values: &[f64], mask: &[bool], k: usize) -> Vec<f64> {
 }
 
 /// Residual analysis of a model's (unfiltered) force prediction.
-pub fn analyse(p: &Prepared, predicted: &[f64], stribeck_velocity: f64) -> RegimeReport {
-    let pf = p.filter(predicted);
-    let r: Vec<f64> = p.force.iter().zip(&pf).map(|(f, q)| f - q).collect();
+pub fn analyse(p: &Prepared, filtered: &[f64], stribeck_velocity: f64) -> RegimeReport {
+    let pf = filtered;
+    let r: Vec<f64> = p.force.iter().zip(pf).map(|(f, q)| f - q).collect();
     let n = p.len();
     let v_stick = (0.2 * stribeck_velocity).max(2e-4);
     let moving: Vec<bool> = p.v.iter().map(|v| v.abs() >= v_stick).collect();

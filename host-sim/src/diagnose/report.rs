@@ -350,11 +350,10 @@ pub fn html(d: &Diagnosis, name: &str, validation: Option<f64>) -> String {
 }
 
 fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
-    let p = &d.prepared;
     let first = &d.stages[0];
     let last = &d.stages[d.stages.len() - 1];
-    let pred_first = p.filter(&first.fit.model.predict(p));
-    let pred_last = p.filter(&last.fit.model.predict(p));
+    let pred_first = &first.fit.prediction;
+    let pred_last = &last.fit.prediction;
     let history_labels: Vec<String> = d.stages.iter().map(|s| s.label.clone()).collect();
     let history: Vec<f64> = d.stages.iter().map(|s| s.fit.rel_err_pct).collect();
     let mut out = String::from(
@@ -424,11 +423,11 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
             to reset.</p>";
     out += &format!(
         "<div class=\"zoom\">{}</div>",
-        force_over_time(d, &pred_first, &pred_last)?
+        force_over_time(d, pred_first, pred_last)?
     );
     out += &format!(
         "<div class=\"zoom\">{}</div>",
-        residual_vs_velocity(d, &pred_first, &pred_last)?
+        residual_vs_velocity(d, pred_first, pred_last)?
     );
     out += "<p>Green: moving in +x, purple: moving in -x.</p>";
     out += &regime_bias(first, last)?;
