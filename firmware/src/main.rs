@@ -3,13 +3,15 @@
 //! Runs 4 s of a low-speed sinusoid (2 mm, 0.5 Hz) with the full controller (feed-forward,
 //! observer, residual observer, refinement) and the friction model of the parameter file the
 //! host tools wrote (`params.toml`, or `LUGRE_PARAMS`; validated at build time) against an
-//! on-target plant model with the true Table 2 friction, measures the controller's cost per
+//! on-target plant model with the true Table 2 friction, through the hardware boundary of
+//! [`board`] (the QEMU board), measures the controller's cost per
 //! tick with SysTick under `-icount shift=0` (calibrated against a block of 1000 `nop`s), prints
 //! the figures over semihosting and exits with success only if the axis tracked.
 
 #![no_std]
 #![no_main]
 
+mod board;
 mod plant;
 
 /// The friction model and mass of the parameter file (see build.rs: `LUGRE_PARAMS`).
@@ -17,27 +19,20 @@ mod params {
     include!(concat!(env!("OUT_DIR"), "/params.rs"));
 }
 
-use core::sync::atomic::{AtomicU32, Ordering};
+use board::{Board, QemuBoard};
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use lugre_servo::axis::AxisGeometry;
-use lugre_servo::control::{Controller, ControllerConfig, Features, Measurements, Reference};
+use lugre_servo::control::{Controller, ControllerConfig, Features, Reference};
 
 #[cfg(feature = "defmt")]
 use defmt_rtt as _;
 
-/// The valve command register (a DAC on real hardware), as raw f32 bits.
-static VALVE: AtomicU32 = AtomicU32::new(0);
-
-fn write_valve(u: f32) {
-    VALVE.store(u.to_bits(), Ordering::SeqCst);
-}
-
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     // the safe state first: valve to null, then report
-    write_valve(0.0);
+    board::write_valve(0.0);
     hprintln!("PANIC: valve set to null");
     debug::exit(debug::EXIT_FAILURE);
     loop {
@@ -117,7 +112,7 @@ fn main() -> ! {
     };
     let config = ControllerConfig::for_axis(&axis, params::model(), Features::FULL);
     let mut ctrl = Controller::new(config);
-    let mut plant = plant::Plant::new(0.25);
+    let mut board = QemuBoard::new(0.25);
     let (amp, w) = (0.002f32, 2.0 * core::f32::consts::PI * 0.5);
     let n = 4000;
     let (mut sum_sq, mut max_err, mut count) = (0.0f32, 0.0f32, 0u32);
@@ -131,13 +126,7 @@ fn main() -> ! {
             velocity_m_per_s: amp * w * c,
             acceleration_m_per_s2: -amp * w * w * s,
         };
-        // 0.1 um encoder
-        let m = Measurements {
-            position_m: libm::roundf(plant.x * 1e7) * 1e-7,
-            pressure_a_pa: plant.pa,
-            pressure_b_pa: plant.pb,
-            temperature_c: None,
-        };
+        let m = board.sample();
         let t0 = SYST::get_current();
         let out = ctrl.tick(&m, &r);
         let t1 = SYST::get_current();
@@ -149,11 +138,15 @@ fn main() -> ! {
             #[cfg(feature = "defmt")]
             defmt::warn!("faults {}", out.faults);
         }
-        write_valve(out.valve_command);
-        plant.advance(f32::from_bits(VALVE.load(Ordering::SeqCst)));
+        if out.safe {
+            board.null_valve();
+        } else {
+            board.command_valve(out.valve_command);
+        }
+        board.advance();
         if k >= 500 {
             let tn = (k + 1) as f32 * 1e-3;
-            let e = 0.25 + amp * libm::sinf(w * tn) - plant.x;
+            let e = 0.25 + amp * libm::sinf(w * tn) - board.true_position();
             sum_sq += e * e;
             max_err = max_err.max(e.abs());
             count += 1;
