@@ -184,6 +184,24 @@ fn host_sim(dir: &Path, args: &[&str]) -> String {
     text
 }
 
+/// `simulate sweep` and `simulate ident-sine` (realistic sensors, noise seed `seed`) into
+/// `s.csv` and `d.csv` in `dir`: the realistic identification's two experiments.
+fn simulate_identification_records(dir: &Path, seed: &str) {
+    for (experiment, out) in [("sweep", "s.csv"), ("ident-sine", "d.csv")] {
+        let args = [
+            "simulate",
+            experiment,
+            "--out",
+            out,
+            "--noise",
+            "realistic",
+            "--seed",
+            seed,
+        ];
+        host_sim(dir, &args);
+    }
+}
+
 /// The measured-data path end to end: the realistic identification's two experiments written
 /// as CSV by `simulate`, read back by `identify --sweep --dynamic`, give the same data and the
 /// same parameters as the in-memory run.
@@ -191,32 +209,7 @@ fn host_sim(dir: &Path, args: &[&str]) -> String {
 fn simulated_records_through_files_give_the_in_memory_result() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    host_sim(
-        d,
-        &[
-            "simulate",
-            "sweep",
-            "--out",
-            "s.csv",
-            "--noise",
-            "realistic",
-            "--seed",
-            "3",
-        ],
-    );
-    host_sim(
-        d,
-        &[
-            "simulate",
-            "ident-sine",
-            "--out",
-            "d.csv",
-            "--noise",
-            "realistic",
-            "--seed",
-            "3",
-        ],
-    );
+    simulate_identification_records(d, "3");
     let sweep = Record::read(&d.join("s.csv")).unwrap();
     let dynamic = Record::read(&d.join("d.csv")).unwrap();
     let mut from_files = identify::dynamic_from_record(&dynamic, 200.0, "d.csv").unwrap();
@@ -266,32 +259,7 @@ fn simulated_records_through_files_give_the_in_memory_result() {
 fn records_with_rig_habits_go_through_identification() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    host_sim(
-        d,
-        &[
-            "simulate",
-            "sweep",
-            "--out",
-            "s.csv",
-            "--noise",
-            "realistic",
-            "--seed",
-            "4",
-        ],
-    );
-    host_sim(
-        d,
-        &[
-            "simulate",
-            "ident-sine",
-            "--out",
-            "d.csv",
-            "--noise",
-            "realistic",
-            "--seed",
-            "4",
-        ],
-    );
+    simulate_identification_records(d, "4");
     host_sim(
         d,
         &[

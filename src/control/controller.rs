@@ -383,10 +383,23 @@ impl ControllerConfig {
     }
 }
 
+/// Per-period factors that depend only on the configuration: computed once in
+/// [`Controller::new`], so the 1 kHz tick calls no `exp`.
+#[derive(Clone, Copy, Debug)]
+struct Gains {
+    /// Disturbance observer's step gain.
+    dob: f32,
+    /// Residual observer's step gain.
+    residual: f32,
+    /// Feed-forward bristle relaxation per period at rest.
+    rest_decay: f32,
+}
+
 /// The controller state.
 #[derive(Clone, Copy, Debug)]
 pub struct Controller {
     config: ControllerConfig,
+    gains: Gains,
     model: FrictionModel<f32>,
     mode: Mode,
     estimator: Estimator,
@@ -428,6 +441,11 @@ impl Controller {
             last_ref: None,
             stuck_ticks: 0,
             last_position: 0.0,
+            gains: Gains {
+                dob: DisturbanceObserver::gain(config.dob_cutoff_hz, config.period_s),
+                residual: DisturbanceObserver::gain(config.residual_cutoff_hz, config.period_s),
+                rest_decay: Feedforward::rest_decay(config.period_s),
+            },
             config,
         }
     }
@@ -572,9 +590,14 @@ impl Controller {
         // friction: feed-forward along the reference, observer along the measured motion
         let mut compensation = 0.0;
         if c.features.feedforward {
-            out.friction_feedforward_n =
-                self.feedforward
-                    .update(&self.model, v_ref_mean, r.velocity_m_per_s, &cond, h);
+            out.friction_feedforward_n = self.feedforward.update(
+                &self.model,
+                v_ref_mean,
+                r.velocity_m_per_s,
+                &cond,
+                h,
+                self.gains.rest_decay,
+            );
             compensation = out.friction_feedforward_n;
         }
         if c.features.observer {
@@ -602,13 +625,9 @@ impl Controller {
             out.friction_feedforward_n = compensation;
         }
         if c.features.disturbance_observer {
-            compensation = self.dob.update(
-                measured_force,
-                c.mass_kg,
-                est.acceleration,
-                c.dob_cutoff_hz,
-                h,
-            );
+            compensation =
+                self.dob
+                    .update(measured_force, c.mass_kg, est.acceleration, self.gains.dob);
             out.friction_observer_n = compensation;
         }
         let at_rest = r.velocity_m_per_s == 0.0 && v_ref_mean == 0.0;
@@ -616,7 +635,7 @@ impl Controller {
             // while the reference holds still the friction is reactive: there is no level to
             // learn, and feeding the measured force back would soften the hold. The estimate
             // relaxes so the next move starts from the model alone.
-            self.residual.update(0.0, 0.0, 0.0, c.residual_cutoff_hz, h);
+            self.residual.update(0.0, 0.0, 0.0, self.gains.residual);
             self.last_model_compensation = compensation;
         } else if c.features.residual_observer && compensation.is_finite() {
             // the friction that acted over the last period (force minus inertia) minus what
@@ -625,8 +644,7 @@ impl Controller {
                 measured_force - self.last_model_compensation,
                 c.mass_kg,
                 est.acceleration,
-                c.residual_cutoff_hz,
-                h,
+                self.gains.residual,
             );
             // it works where the levels decide the error: in the Stribeck region, where the
             // friction is its levels Fs and Fc. Above it the friction follows the velocity,

@@ -25,20 +25,24 @@ pub struct DisturbanceObserver {
 }
 
 impl DisturbanceObserver {
+    /// The filter's step gain `1 - exp(-2 pi f_Q h)` for cut-off `cutoff_hz` [Hz] and period
+    /// `period_s` [s]: computed once per configuration, not every period.
+    pub fn gain(cutoff_hz: f32, period_s: f32) -> f32 {
+        1.0 - libm::expf(-2.0 * core::f32::consts::PI * cutoff_hz * period_s)
+    }
+
     /// One period: measured actuator force [N], mass [kg], estimated acceleration [m/s^2],
-    /// filter cut-off [Hz], period [s]. Returns the new estimate; a non-finite input leaves it
+    /// the step gain of [`Self::gain`]. Returns the new estimate; a non-finite input leaves it
     /// unchanged.
     pub fn update(
         &mut self,
         measured_force_n: f32,
         mass_kg: f32,
         acceleration_m_per_s2: f32,
-        cutoff_hz: f32,
-        period_s: f32,
+        gain: f32,
     ) -> f32 {
         let d = measured_force_n - mass_kg * acceleration_m_per_s2;
-        let k = 1.0 - libm::expf(-2.0 * core::f32::consts::PI * cutoff_hz * period_s);
-        let next = self.estimate_n + k * (d - self.estimate_n);
+        let next = self.estimate_n + gain * (d - self.estimate_n);
         if next.is_finite() {
             self.estimate_n = next;
         }
@@ -53,11 +57,12 @@ mod tests {
     #[test]
     fn follows_a_constant_disturbance_with_its_time_constant() {
         let mut dob = DisturbanceObserver::default();
+        let k = DisturbanceObserver::gain(10.0, 1e-3);
         // 500 N of friction, no acceleration: after one time constant 63 % of it
         let tau = 1.0 / (2.0 * core::f32::consts::PI * 10.0);
         let n = (tau / 1e-3).round() as usize;
         for _ in 0..n {
-            dob.update(500.0, 200.0, 0.0, 10.0, 1e-3);
+            dob.update(500.0, 200.0, 0.0, k);
         }
         assert!(
             (dob.estimate_n / 500.0 - 0.632).abs() < 0.02,
@@ -65,14 +70,14 @@ mod tests {
             dob.estimate_n
         );
         for _ in 0..2000 {
-            dob.update(500.0, 200.0, 0.0, 10.0, 1e-3);
+            dob.update(500.0, 200.0, 0.0, k);
         }
         assert!((dob.estimate_n - 500.0).abs() < 1e-2);
         // inertia is not disturbance
-        dob.update(500.0 + 200.0 * 3.0, 200.0, 3.0, 10.0, 1e-3);
+        dob.update(500.0 + 200.0 * 3.0, 200.0, 3.0, k);
         assert!((dob.estimate_n - 500.0).abs() < 1e-2);
         // a NaN leaves the estimate as it was
-        dob.update(f32::NAN, 200.0, 0.0, 10.0, 1e-3);
+        dob.update(f32::NAN, 200.0, 0.0, k);
         assert!((dob.estimate_n - 500.0).abs() < 1e-2);
     }
 }

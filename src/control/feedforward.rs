@@ -33,8 +33,14 @@ pub struct Feedforward {
 }
 
 impl Feedforward {
+    /// The bristle relaxation factor per period at rest, `exp(-h / REST_RELAXATION_S)` for
+    /// period `h` [s]: computed once per configuration.
+    pub fn rest_decay(period_s: f32) -> f32 {
+        libm::expf(-period_s / REST_RELAXATION_S)
+    }
+
     /// One step along the reference: mean reference velocity over the period and the
-    /// reference velocity now [m/s].
+    /// reference velocity now [m/s]; `rest_decay` from [`Self::rest_decay`].
     pub fn update(
         &mut self,
         model: &FrictionModel<f32>,
@@ -42,9 +48,10 @@ impl Feedforward {
         v_ref: f32,
         c: &Conditions<f32>,
         h: f32,
+        rest_decay: f32,
     ) -> f32 {
         if v_ref == 0.0 && v_ref_mean == 0.0 {
-            self.state.z *= libm::expf(-h / REST_RELAXATION_S);
+            self.state.z *= rest_decay;
         }
         self.force = model.step_split(&mut self.state, v_ref_mean, v_ref, c, h);
         if !self.force.is_finite() {

@@ -81,16 +81,6 @@ pub fn run(a: &Args) -> Result<()> {
     benchmark(a.json.as_deref(), a.plot.as_deref(), a.seed)
 }
 
-/// The models within +-30 % static mismatch (the target set).
-const WITHIN_30: [&str; 6] = [
-    "truth",
-    "identified",
-    "static_x0.7",
-    "static_x0.8",
-    "static_x1.2",
-    "static_x1.3",
-];
-
 fn robustness(a: &Args) -> Result<()> {
     use host_sim::robustness::{self as rb, Scenario};
     use indicatif::{ProgressBar, ProgressStyle};
@@ -168,7 +158,7 @@ fn robustness(a: &Args) -> Result<()> {
             let rms = pct(p, model, "full", "low_speed", |c| c.rms_err_m);
             let rev = pct(p, model, "full", "low_speed", |c| c.reversal_err_m);
             print!(" {:>6.1} ({:>4.0})", rms, rev);
-            if WITHIN_30.contains(&model) {
+            if rb::WITHIN_30_PERCENT.contains(&model) {
                 if rms > worst {
                     worst = rms;
                     worst_at = format!("{p} / {model}");
