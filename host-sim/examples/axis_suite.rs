@@ -39,6 +39,10 @@ struct Row {
     without_effect_pct: f64,
     /// every candidate of the baseline: (effect, dBIC, error with it [%], significant)
     candidates: Vec<(String, f64, f64, bool)>,
+    /// departures from rest the diagnosis found (the breakaway evidence)
+    departures: usize,
+    /// evidence of the model-free dwell trend of the breakaway peaks (NaN: none)
+    peak_trend_dbic: f64,
 }
 
 fn main() {
@@ -80,7 +84,15 @@ fn main() {
         (500, 20_000)
     };
     let mut jobs: Vec<(Option<&'static str>, u64)> = (0..free).map(|s| (None, free0 + s)).collect();
+    // `--only EFFECT`: that effect's records (and the effect-free ones) only
+    let only = args
+        .iter()
+        .position(|a| a == "--only")
+        .and_then(|i| args.get(i + 1).cloned());
     for (k, e) in EFFECTS.iter().enumerate() {
+        if only.as_deref().is_some_and(|o| o != *e) {
+            continue;
+        }
         jobs.extend((0..per_effect).map(|s| (Some(*e), eff0 + 100 * k as u64 + s)));
     }
     let bar = ProgressBar::new(jobs.len() as u64).with_style(
@@ -193,6 +205,8 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         floor_pct: f64::NAN,
         without_effect_pct: f64::NAN,
         candidates: Vec::new(),
+        departures: 0,
+        peak_trend_dbic: f64::NAN,
     };
     let name = format!("{hidden}-{seed}.csv");
     let rec = match Record::parse(&text, Path::new(&name)) {
@@ -242,6 +256,8 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
             )
         })
         .collect();
+    row.departures = d.breakaway.departures.len();
+    row.peak_trend_dbic = d.breakaway.trend.as_ref().map_or(f64::NAN, |t| t.delta_bic);
     row.baseline_pct = d.stages[0].fit.rel_err_pct;
     row.added_pct = d.stages[d.stages.len() - 1].fit.rel_err_pct;
     row

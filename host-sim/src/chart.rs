@@ -50,6 +50,8 @@ pub struct Panel<'a> {
     pub frame: Frame<'a>,
     /// Points (x, y, colour).
     pub points: Vec<(f64, f64, RGBColor)>,
+    /// Radius of the points [px] (1 for thousands of samples, more for a few events).
+    pub radius: u32,
 }
 
 /// One series of bars.
@@ -126,7 +128,7 @@ pub fn scatter_panels(height: u32, panels: &[Panel]) -> Result<String> {
                 panel
                     .points
                     .iter()
-                    .map(|&(x, y, color)| Circle::new((x, y), 1, color.filled())),
+                    .map(|&(x, y, color)| Circle::new((x, y), panel.radius, color.filled())),
             )
             .map_err(err)?;
         }

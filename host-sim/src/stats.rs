@@ -32,6 +32,12 @@ pub fn mean(v: &[f64]) -> f64 {
     }
 }
 
+/// Two-sided 95 % quantile of Student's t with `df` degrees of freedom (infinite for none).
+pub fn student_t95(df: usize) -> f64 {
+    use statrs::distribution::{ContinuousCDF, StudentsT};
+    StudentsT::new(0.0, 1.0, df as f64).map_or(f64::INFINITY, |t| t.inverse_cdf(0.975))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

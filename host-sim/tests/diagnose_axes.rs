@@ -56,10 +56,18 @@ fn no_effect_is_claimed_on_effect_free_axes() {
 
 /// A strong direction dependence on an axis whose baseline has no viscous friction: the
 /// asymmetry's viscous-ratio regressor is all zero there, which once turned the normal
-/// equations into NaN and froze every asymmetry fit at its start.
+/// equations into NaN and froze every asymmetry fit at its start. (Seed 1007: since the
+/// generator's schedule bounds its bursts, seed 1000 draws an asymmetry whose static and
+/// Coulomb shifts are nearly equal in newtons, which an offset mimics within 0.1 % of error;
+/// 1007 keeps this test's premise, a baseline with sigma2 = 0.)
 #[test]
 fn asymmetry_is_found_where_the_baseline_has_no_viscous_term() {
-    let (d, _) = diagnose(Some("asymmetry"), 1000, &[]);
+    let (d, _) = diagnose(Some("asymmetry"), 1007, &[]);
+    assert_eq!(
+        d.stages[0].fit.model.friction.params.viscous_coefficient(),
+        0.0,
+        "the premise: a baseline without viscous friction"
+    );
     let first = &d.stages[0].candidates[0];
     println!("{}", report(&d));
     assert_eq!(first.kind.name(), "asymmetry", "{}", report(&d));

@@ -142,8 +142,14 @@ fn the_report_is_self_contained_and_lists_the_whole_model() {
     };
     let d = diagnose::diagnose(&rec, "r.csv", &opts).unwrap();
     let html = diagnose::report::html(&d, "r.csv", None);
-    // error history, force over time, residual vs velocity (two panels), regime bias
-    assert_eq!(html.matches("<svg").count(), 4);
+    // error history, force over time, residual vs velocity (two panels), regime bias, the
+    // breakaway peaks and holding forces (three panels)
+    assert_eq!(html.matches("<svg").count(), 5);
+    assert!(html.contains("Breakaway and standstill"));
+    assert!(
+        !d.breakaway.departures.is_empty(),
+        "the record rests and starts again"
+    );
     assert_eq!(html.matches("class=\"zoom\"").count(), 2);
     assert!(html.contains("addEventListener('wheel'"));
     for remote in ["src=\"http", "href=\"http", "@import", "<link"] {

@@ -71,6 +71,8 @@ pub struct JsonOut<'a> {
     pub history: Vec<(String, f64)>,
     /// Where the final model fails.
     pub regimes: &'a diagnose::regimes::RegimeReport,
+    /// Departures from rest: breakaway peaks, holding forces, the dwell trend.
+    pub breakaway: &'a diagnose::breakaway::Breakaway,
 }
 
 /// Runs the subcommand.
@@ -148,6 +150,7 @@ pub fn run(a: &Args) -> Result<()> {
                 .map(|s| (s.label.clone(), s.fit.rel_err_pct))
                 .collect(),
             regimes: &last.regimes,
+            breakaway: &d.breakaway,
         };
         super::write_json(path, &out)?;
     }
@@ -248,6 +251,38 @@ pub fn write_params(d: &Diagnosis, path: &Path, user_mass: Option<f64>) -> Resul
 }
 
 /// Prints the story of a diagnosis.
+/// The evidence beyond sliding, in a few lines.
+fn print_breakaway(b: &diagnose::breakaway::Breakaway) {
+    let n = b.departures.len();
+    println!("departures from rest: {n}");
+    if n == 0 {
+        return;
+    }
+    for (d, word) in [(1.0, "forward"), (-1.0, "backward")] {
+        let sel: Vec<&diagnose::breakaway::Departure> =
+            b.departures.iter().filter(|e| e.direction == d).collect();
+        if sel.is_empty() {
+            continue;
+        }
+        let peaks: Vec<f64> = sel.iter().map(|e| e.peak_n).collect();
+        let holding: Vec<f64> = sel.iter().map(|e| e.holding_n).collect();
+        println!(
+            "   {word:<8}: {:>3} breakaways, peak force median {:.3} N, holding force before them median {:.3} N",
+            sel.len(),
+            host_sim::stats::median(&peaks),
+            host_sim::stats::median(&holding)
+        );
+    }
+    match (&b.trend, &b.untestable) {
+        (_, Some(why)) => println!("   dwell stiction cannot be tested: {why}"),
+        (Some(t), None) => println!(
+            "   breakaway peak against rest time: grows by {:.3} +- {:.3} N (time constant {:.2} s), evidence dBIC {:.1}",
+            t.increase_n, t.increase_ci_n, t.time_constant_s, t.delta_bic
+        ),
+        (None, None) => {}
+    }
+}
+
 pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
     for n in &d.prepared.notes {
         println!("warning: {n}");
@@ -267,6 +302,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
     if let Some(g) = d.given_rel_err_pct {
         println!("model as given: relative force error {g:.2} %");
     }
+    print_breakaway(&d.breakaway);
     for (i, s) in d.stages.iter().enumerate() {
         let m = &s.fit.model;
         let p = &m.friction.params;
@@ -332,6 +368,9 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                         );
                         if c.significant {
                             println!("   {:<24} -> {}", "", c.meaning);
+                        }
+                        if let Some(why) = &c.caution {
+                            println!("   {:<24} -> cannot be significant: {why}", "");
                         }
                     }
                     _ => {}

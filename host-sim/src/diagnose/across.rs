@@ -38,7 +38,7 @@ use serde::Serialize;
 
 /// Half-width of a jackknife level's 95 % interval: `t(0.975, BLOCKS - 1) se`.
 pub fn half_width95(se: f64) -> f64 {
-    student_t95(BLOCKS - 1) * se
+    crate::stats::student_t95(BLOCKS - 1) * se
 }
 
 /// Blocks of the jackknife.
@@ -297,14 +297,8 @@ fn line_fit(pts: &[(f64, f64)]) -> Option<(f64, f64, f64, f64, f64)> {
         .map(|p| (p.1 - ym - b * (p.0 - xm)).powi(2))
         .sum();
     let s = (rss / (nf - 2.0)).sqrt();
-    let half = student_t95(n - 2) * s / sxx.sqrt();
+    let half = crate::stats::student_t95(n - 2) * s / sxx.sqrt();
     Some((b, b - half, b + half, ym, s))
-}
-
-/// Two-sided 95 % quantile of Student's t with `df` degrees of freedom (infinite for none).
-pub fn student_t95(df: usize) -> f64 {
-    use statrs::distribution::{ContinuousCDF, StudentsT};
-    StudentsT::new(0.0, 1.0, df as f64).map_or(f64::INFINITY, |t| t.inverse_cdf(0.975))
 }
 
 #[cfg(test)]
@@ -338,10 +332,10 @@ mod tests {
 
     #[test]
     fn student_quantiles_match_the_tables() {
-        assert!((student_t95(1) - 12.706).abs() < 1e-3);
-        assert!((student_t95(3) - 3.182).abs() < 1e-3);
-        assert!((student_t95(30) - 2.042).abs() < 1e-3);
-        assert!(student_t95(0).is_infinite());
+        assert!((crate::stats::student_t95(1) - 12.706).abs() < 1e-3);
+        assert!((crate::stats::student_t95(3) - 3.182).abs() < 1e-3);
+        assert!((crate::stats::student_t95(30) - 2.042).abs() < 1e-3);
+        assert!(crate::stats::student_t95(0).is_infinite());
     }
 
     #[test]

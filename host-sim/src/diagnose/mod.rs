@@ -17,6 +17,7 @@
 //! grid-searched parameter, the profile interval `N_eff ln(RSS / RSS_min) <= 3.84`).
 
 pub mod across;
+pub mod breakaway;
 pub mod fit;
 pub mod inverse;
 pub mod regimes;
@@ -25,6 +26,7 @@ pub mod static_table;
 
 use crate::error::{DataProblem, Error, Result};
 use crate::record::Record;
+use breakaway::Breakaway;
 use fit::{Fit, Param};
 use inverse::{AxisModel, Prepared, Protocol};
 use lugre_servo::friction::{EffectKind, FrictionModel, LugreParams};
@@ -192,8 +194,14 @@ pub struct Candidate {
     /// Information-criterion gain (higher is better).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub delta_bic: Option<f64>,
+    /// Evidence from the breakaway peaks, included in `delta_bic` (see [`breakaway`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_delta_bic: Option<f64>,
     /// Significant (see the module docs).
     pub significant: bool,
+    /// Why it cannot be significant on this record although it was tested.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub caution: Option<String>,
     /// Fitted parameters.
     pub parameters: Vec<ParamReport>,
     /// Why it was not tested.
@@ -265,6 +273,8 @@ pub struct Diagnosis {
     pub effective_samples: f64,
     /// The practitioners' static tables: what every dynamic model must beat.
     pub tables: static_table::StaticTables,
+    /// Departures from rest: breakaway peaks and holding forces.
+    pub breakaway: Breakaway,
 }
 
 impl Diagnosis {
@@ -586,6 +596,7 @@ pub const POLISHED_LEADERS: usize = 5;
 /// Scores every effect not yet in `current`, best first (skipped ones last).
 pub fn rank_candidates(
     p: &Prepared,
+    brk: &Breakaway,
     current: &Fit,
     fixed_mass: Option<f64>,
     n_eff: f64,
@@ -593,7 +604,7 @@ pub fn rank_candidates(
     let mut out: Vec<Candidate> = EFFECTS
         .par_iter()
         .filter(|e| !current.model.friction.effects.has(e.kind))
-        .map(|info| score(p, current, info, fixed_mass, n_eff))
+        .map(|info| score(p, brk, current, info, fixed_mass, n_eff))
         .collect();
     let by_bic = |a: &Candidate, b: &Candidate| {
         b.delta_bic
@@ -624,7 +635,7 @@ pub fn rank_candidates(
         if better {
             let info = effect_info(out[i].kind);
             let (params, nl) = (out[i].parameters.clone(), out[i].nonlinear_excludes_null);
-            out[i] = judge(current, info, f, params, nl, n_eff);
+            out[i] = judge(p, brk, current, info, f, params, nl, n_eff);
         }
     }
     // Final verdict for every candidate, on one yardstick: the noise is judged from the best
@@ -644,6 +655,8 @@ pub fn rank_candidates(
         .par_iter()
         .map(|c| match &c.fit {
             Some(f) => judge(
+                p,
+                brk,
                 current,
                 effect_info(c.kind),
                 f.clone(),
@@ -661,6 +674,7 @@ pub fn rank_candidates(
 
 fn score(
     p: &Prepared,
+    brk: &Breakaway,
     current: &Fit,
     info: &EffectInfo,
     fixed_mass: Option<f64>,
@@ -671,7 +685,9 @@ fn score(
         meaning: info.meaning.into(),
         rel_err_pct: None,
         delta_bic: None,
+        peak_delta_bic: None,
         significant: false,
+        caution: None,
         parameters: Vec::new(),
         skipped: missing_channel(info.kind, p),
         fit: None,
@@ -726,6 +742,8 @@ fn score(
         ),
     };
     judge(
+        p,
+        brk,
         current,
         info,
         fit,
@@ -746,7 +764,10 @@ pub const MIN_ERROR_CUT: f64 = 0.15;
 
 /// Scores a refitted candidate against the current model: dBIC, significance, parameters.
 /// `parameters` holds the nonlinear parameter's report (from its grid profile), if any.
+#[allow(clippy::too_many_arguments)]
 fn judge(
+    p: &Prepared,
+    brk: &Breakaway,
     current: &Fit,
     info: &EffectInfo,
     fit: Fit,
@@ -782,15 +803,35 @@ fn judge(
         }
     }
     let k = own.len() + usize::from(info.nonlinear.is_some());
-    let dbic = n_eff * (current.rss / fit.rss).ln() - k as f64 * n_eff.ln();
+    let sliding = n_eff * (current.rss / fit.rss).ln() - k as f64 * n_eff.ln();
+    // the breakaway peaks count once there are enough of them to be more than anecdote
+    let peaks = (brk.departures.len() >= breakaway::MIN_DEPARTURES)
+        .then(|| brk.peak_dbic(p, &current.prediction, &fit.prediction));
+    let dbic = sliding + peaks.unwrap_or(0.0);
+    // dwell stiction acts only where the axis breaks away: the peaks must bear it out
+    let caution = match info.kind {
+        EffectKind::DwellStiction => brk.untestable.clone().or_else(|| {
+            (peaks.unwrap_or(0.0) < breakaway::DWELL_MIN_PEAK_DBIC).then(|| {
+                format!(
+                    "it does not explain the breakaway peaks better (peak evidence {:.1} < {})",
+                    peaks.unwrap_or(0.0),
+                    breakaway::DWELL_MIN_PEAK_DBIC
+                )
+            })
+        }),
+        _ => None,
+    };
     Candidate {
         kind: info.kind,
         meaning: info.meaning.into(),
         rel_err_pct: Some(fit.rel_err_pct),
         delta_bic: Some(dbic),
+        peak_delta_bic: peaks,
         significant: dbic > 10.0
+            && caution.is_none()
             && (linear_excludes || nonlinear_excludes_null)
             && fit.rel_err_pct <= (1.0 - MIN_ERROR_CUT) * current.rel_err_pct,
+        caution,
         parameters,
         skipped: None,
         fit: Some(fit),
@@ -832,8 +873,9 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     let given_rel_err_pct = opts.given.map(|g| p.rel_err_pct(&g.predict(&p)));
 
     let tables = static_table::fit(&p, fixed_mass);
+    let brk = Breakaway::find(&p);
     let base = baseline(&p, opts, n_eff);
-    let mut stages = vec![stage(None, base, &p, fixed_mass, n_eff, true)];
+    let mut stages = vec![stage(None, base, &p, &brk, fixed_mass, n_eff, true)];
     // the effects asked for, then (with `auto`) the first significant candidate each time
     for k in 0..add.len() + opts.auto {
         let e = match add.get(k) {
@@ -873,7 +915,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
             }
         };
         let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);
-        stages.push(stage(Some(e), fit, &p, fixed_mass, n_eff, rank));
+        stages.push(stage(Some(e), fit, &p, &brk, fixed_mass, n_eff, rank));
     }
     Ok(Diagnosis {
         noise_floor_pct: opts.truth.map(|t| p.rel_err_pct(&t.predict(&p))),
@@ -882,6 +924,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         stages,
         effective_samples: n_eff,
         tables,
+        breakaway: brk,
     })
 }
 
@@ -889,6 +932,7 @@ fn stage(
     effect: Option<EffectKind>,
     fit: Fit,
     p: &Prepared,
+    brk: &Breakaway,
     fixed_mass: Option<f64>,
     n_eff: f64,
     rank: bool,
@@ -899,7 +943,7 @@ fn stage(
         fit.model.friction.params.stribeck_velocity(),
     );
     let candidates = if rank {
-        rank_candidates(p, &fit, fixed_mass, n_eff)
+        rank_candidates(p, brk, &fit, fixed_mass, n_eff)
     } else {
         Vec::new()
     };

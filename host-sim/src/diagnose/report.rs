@@ -70,6 +70,7 @@ fn residual_vs_velocity(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<St
                 (p.v[i] * 1e3, r[i], color)
             })
             .collect(),
+        radius: 1,
     };
     chart::scatter_panels(
         H,
@@ -78,6 +79,104 @@ fn residual_vs_velocity(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<St
             panel("Residual vs velocity: final model", &r_last),
         ],
     )
+}
+
+/// The evidence beyond sliding: breakaway peaks against the rest before them, per direction,
+/// measured and as each model predicts them, and the holding force during each rest.
+fn breakaway_section(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String> {
+    let b = &d.breakaway;
+    let mut out = String::from("<h2>Breakaway and standstill</h2>");
+    out += &format!(
+        "<p>{} departures from a rest of at least {:.0} ms. A peak is the largest force in the \
+         direction of motion from {:.0} ms before to {:.0} ms after the rest ends; dwell stiction \
+         makes it grow with the rest, asymmetry differs per direction, an offset shifts both \
+         directions and the holding force alike.</p>",
+        b.departures.len(),
+        super::breakaway::MIN_REST_S * 1e3,
+        super::breakaway::PRE_S * 1e3,
+        super::breakaway::POST_S * 1e3
+    );
+    match (&b.untestable, &b.trend) {
+        (Some(why), _) => {
+            out += &format!("<p>Dwell stiction cannot be tested: {}.</p>", escape(why))
+        }
+        (None, Some(t)) => {
+            out += &format!(
+                "<p>Peak against rest time: grows by {:.3} &plusmn; {:.3} N (95 %, time constant {:.2} s); evidence dBIC {:.1}.</p>",
+                t.increase_n, t.increase_ci_n, t.time_constant_s, t.delta_bic
+            )
+        }
+        _ => {}
+    }
+    if b.departures.is_empty() {
+        return Ok(out);
+    }
+    let p = &d.prepared;
+    let (m_first, m_last) = (b.model_peaks(p, first), b.model_peaks(p, last));
+    let x = |e: &super::breakaway::Departure| e.rest_s.max(1e-3).log10();
+    let xr = chart::range(b.departures.iter().map(x));
+    let y = chart::range(
+        b.departures
+            .iter()
+            .zip(m_first.iter().zip(&m_last))
+            .flat_map(|(e, (f, l))| [e.peak_n * e.direction, f * e.direction, l * e.direction]),
+    );
+    let panel = |title, dir: f64| Panel {
+        frame: Frame {
+            title,
+            x_desc: "log10 rest before [s]",
+            y_desc: "breakaway peak |F| [N]",
+            x: xr,
+            y,
+        },
+        points: b
+            .departures
+            .iter()
+            .zip(m_first.iter().zip(&m_last))
+            .filter(|(e, _)| e.direction == dir)
+            .flat_map(|(e, (f, l))| {
+                [
+                    (x(e), f * dir, FIRST_MODEL),
+                    (x(e), l * dir, FINAL_MODEL),
+                    (x(e), e.peak_n * dir, chart::MEASURED),
+                ]
+            })
+            .collect(),
+        radius: 3,
+    };
+    let holding = Panel {
+        frame: Frame {
+            title: "Holding force during the rest",
+            x_desc: "log10 rest [s]",
+            y_desc: "mean force [N]",
+            x: xr,
+            y: chart::range(b.departures.iter().map(|e| e.holding_n)),
+        },
+        points: b
+            .departures
+            .iter()
+            .map(|e| {
+                let c = if e.direction > 0.0 {
+                    chart::PLUS
+                } else {
+                    chart::MINUS
+                };
+                (x(e), e.holding_n, c)
+            })
+            .collect(),
+        radius: 3,
+    };
+    out += &chart::scatter_panels(
+        H,
+        &[
+            panel("Breakaway, moving off in +x", 1.0),
+            panel("Breakaway, moving off in -x", -1.0),
+            holding,
+        ],
+    )?;
+    out += "<p>Peaks: black measured, red first model, blue final model. Holding force: \
+            coloured by the direction the axis then moved off in (green +x, purple -x).</p>";
+    Ok(out)
 }
 
 fn regime_bias(first: &Stage, last: &Stage) -> Result<String> {
@@ -431,6 +530,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     );
     out += "<p>Green: moving in +x, purple: moving in -x.</p>";
     out += &regime_bias(first, last)?;
+    out += &breakaway_section(d, pred_first, pred_last)?;
     out += "<h2>Which effect is missing (next candidates, best first)</h2>";
     let rows: Vec<Vec<String>> = last
         .candidates
@@ -444,7 +544,10 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                 match &c.skipped {
                     Some(w) => format!("skipped: {w}"),
                     None if c.significant => "SIGNIFICANT".into(),
-                    None => "not significant".into(),
+                    None => match &c.caution {
+                        Some(why) => format!("not significant: {why}"),
+                        None => "not significant".into(),
+                    },
                 },
                 c.parameters
                     .iter()

@@ -24,7 +24,8 @@
 //! stretched-exponential Stribeck curve; a power-law viscous term; a Hill-type dwell stiction.
 //! Base parameters are drawn over wide ranges (soft and stiff contacts, light and heavy masses,
 //! damped and undamped bristles); the excitation is a random schedule of moves (1..120 mm/s)
-//! with dwells (0.05..3 s) and sinusoids with reversals. The encoder has 1 um resolution.
+//! and sinusoids with reversals, each at most [`MAX_BURST_S`] long and followed by a dwell
+//! (0.05..3 s). The encoder has 1 um resolution.
 
 use super::Rng;
 
@@ -44,6 +45,10 @@ pub const EFFECTS: [&str; 8] = [
 pub const DT: f64 = 1e-3;
 /// Integration sub-steps per sample.
 const SUB: usize = 50;
+/// Longest move or sinusoid burst of the schedule [s]: a slow move across the stroke or one
+/// slow sinusoid could otherwise fill a whole record, leaving it without the rests, reversals
+/// and speed range a diagnosis record needs (and a dwell effect nothing to act on).
+pub const MAX_BURST_S: f64 = 8.0;
 /// Below this speed the dwell clock runs [m/s].
 const STICK_SPEED: f64 = 5e-5;
 
@@ -508,16 +513,24 @@ fn schedule(axis: &Axis, rng: &mut Rng) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
             }
             let speed = rng.log_range(1e-3, 0.12);
             let accel = rng.log_range(0.2, 3.0);
+            // at most MAX_BURST_S of travel
+            let reach = (speed * MAX_BURST_S).max(2e-3);
+            let to = x + (to - x).clamp(-reach, reach);
             push_move(&mut xr, x, to, speed, accel);
             x = to;
-            let dwell = (rng.log_range(0.05, 3.0) / DT) as usize;
-            xr.extend(std::iter::repeat_n(x, dwell));
         } else {
             // a sinusoid with reversals, its amplitude rising and falling over one period
-            let amp = rng.log_range(1e-3, 20e-3).min(half * 0.5);
-            let omega = rng.log_range(2e-3, 0.12) / amp;
+            let speed = rng.log_range(2e-3, 0.12);
+            let mut amp = rng.log_range(1e-3, 20e-3).min(half * 0.5);
+            // two periods at least, within MAX_BURST_S (the speed kept, the amplitude cut)
+            amp = amp.min(speed * MAX_BURST_S / (2.0 * std::f64::consts::TAU));
+            let omega = speed / amp;
             let period = std::f64::consts::TAU / omega;
-            let cycles = rng.range(2.0, 6.0).round();
+            let cycles = rng
+                .range(2.0, 6.0)
+                .round()
+                .min((MAX_BURST_S / period).floor())
+                .max(2.0);
             let centre = x.clamp(-half + amp, half - amp);
             if (centre - x).abs() > 1e-9 {
                 push_move(&mut xr, x, centre, 0.05, 1.0);
@@ -538,6 +551,8 @@ fn schedule(axis: &Axis, rng: &mut Rng) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
             x = centre;
             xr.push(x);
         }
+        let dwell = (rng.log_range(0.05, 3.0) / DT) as usize;
+        xr.extend(std::iter::repeat_n(x, dwell));
     }
     xr.truncate(n);
     let mut vr = vec![0.0; n];

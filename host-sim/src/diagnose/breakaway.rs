@@ -1,0 +1,352 @@
+//! Evidence beyond sliding: departures from rest, their breakaway peaks and the force that held
+//! the axis while it rested.
+//!
+//! Sliding samples cannot tell some effects apart or reveal them at all. Dwell stiction only
+//! acts at the moment the axis breaks away after a rest; asymmetry and an offset are nearly
+//! collinear while the axis slides. The events where the axis leaves a rest carry that
+//! evidence:
+//!
+//! - a **departure** is the end of a rest: the speed averaged over [`REST_SPEED_WINDOW_S`]
+//!   stayed below [`STUCK_SPEED`] for at least [`MIN_REST_S`], then the axis moves off in
+//!   direction `d` (averaged, because a resting axis still creeps by encoder counts: soft seals
+//!   deflect tens of micrometres before they slide, and each count is a spike of the filtered
+//!   velocity);
+//! - its **breakaway peak** is `max d F(t)` over `[end - PRE_S, end + POST_S]` (the force in the
+//!   scores' band, so a model's peak is read from its filtered prediction the same way);
+//! - its **holding force** is the mean force over the rest.
+//!
+//! Two uses:
+//! 1. Every candidate is also scored on the peaks: with `r_e` the measured minus the model's
+//!    peak at departure `e` and `n` departures, `dBIC_peaks = n ln(RSS_current / RSS_candidate)`
+//!    (one independent sample per departure) is added to the candidate's sliding dBIC.
+//!    `dwell_stiction` must in addition improve the peaks ([`DWELL_MIN_PEAK_DBIC`]), and it is
+//!    not tested on a record with too few departures or rest times that hardly vary
+//!    ([`MIN_DEPARTURES`], [`MIN_REST_SPAN`]): there the record cannot reveal it.
+//! 2. A model-free trend for the report: the peaks per direction against the rest time,
+//!    `peak = b_d + dF (1 - exp(-t_rest / tau))`, least squares for `(b_+, b_-, dF)` at each
+//!    `tau` of a log grid, `dBIC = n ln(RSS_0 / RSS_1) - 2 ln n` against `peak = b_d`.
+
+use super::inverse::{Prepared, STUCK_SPEED};
+use serde::Serialize;
+
+/// The rest test's speed is the position change over this window [s].
+pub const REST_SPEED_WINDOW_S: f64 = 0.02;
+/// Shortest rest that counts [s].
+pub const MIN_REST_S: f64 = 0.02;
+/// The breakaway window starts this long before the rest ends [s] (the force ramps while the
+/// bristles deflect below the encoder's resolution).
+pub const PRE_S: f64 = 0.05;
+/// The breakaway window ends this long after the rest ends [s] (or where the next rest starts).
+pub const POST_S: f64 = 0.15;
+/// A departure needs the axis to reach this speed within the window [m/s].
+pub const DEPARTURE_SPEED: f64 = 5.0 * STUCK_SPEED;
+/// Fewest departures on which `dwell_stiction` is tested.
+pub const MIN_DEPARTURES: usize = 6;
+/// Longest rest over shortest rest needed to test `dwell_stiction` (its force grows with the
+/// rest time: with rests of one length there is nothing to compare).
+pub const MIN_REST_SPAN: f64 = 4.0;
+/// `dwell_stiction` is significant only where it also explains the breakaway peaks better than
+/// the current model by at least this much (`dBIC_peaks`, "positive" evidence on Kass and
+/// Raftery's scale). Calibrated with the rest of the decision rule (see `MIN_ERROR_CUT`).
+pub const DWELL_MIN_PEAK_DBIC: f64 = 2.0;
+
+/// One departure from rest.
+#[derive(Clone, Debug, Serialize)]
+pub struct Departure {
+    /// Sample where the rest ended.
+    pub index: usize,
+    /// Time where the rest ended [s].
+    pub time_s: f64,
+    /// How long the axis rested before it [s].
+    pub rest_s: f64,
+    /// Direction of the motion that followed (+1 or -1).
+    pub direction: f64,
+    /// Breakaway peak of the measured force, signed (`d max d F`) [N].
+    pub peak_n: f64,
+    /// Mean measured force over the rest [N].
+    pub holding_n: f64,
+}
+
+/// The departures of a record and what their peaks say on their own.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Breakaway {
+    /// Every departure, in time order.
+    pub departures: Vec<Departure>,
+    /// The model-free dwell trend of the peaks, when there are enough departures.
+    pub trend: Option<DwellTrend>,
+    /// Why `dwell_stiction` cannot be tested on this record, if it cannot.
+    pub untestable: Option<String>,
+}
+
+/// Breakaway peaks against the rest time before them.
+#[derive(Clone, Debug, Serialize)]
+pub struct DwellTrend {
+    /// Peak level after a short rest, forward and backward (magnitudes) [N].
+    pub level_n: [f64; 2],
+    /// Growth of the peak from a short to a long rest, `dF` [N].
+    pub increase_n: f64,
+    /// Its 95 % half-width [N].
+    pub increase_ci_n: f64,
+    /// Time constant of the growth [s] (grid value).
+    pub time_constant_s: f64,
+    /// Evidence for the growth against constant levels.
+    pub delta_bic: f64,
+}
+
+/// Grid of the trend's time constant [s].
+const TAU_GRID: [f64; 12] = [
+    0.02, 0.04, 0.07, 0.1, 0.15, 0.2, 0.3, 0.5, 0.8, 1.2, 2.0, 4.0,
+];
+
+/// The window of a departure: `[end - PRE_S, end + POST_S]`, cut at the next rest.
+fn window(p: &Prepared, end: usize, next_rest: usize) -> std::ops::Range<usize> {
+    let pre = (PRE_S / p.dt).round() as usize;
+    let post = (POST_S / p.dt).round() as usize;
+    end.saturating_sub(pre)..(end + post).min(next_rest).min(p.len())
+}
+
+/// Largest `d f` over the window, signed back (`d max d f`).
+fn peak(f: &[f64], w: std::ops::Range<usize>, d: f64) -> f64 {
+    d * f[w].iter().fold(f64::NEG_INFINITY, |m, x| m.max(d * x))
+}
+
+impl Breakaway {
+    /// Finds the departures of a prepared record (segment by segment: never across a gap).
+    pub fn find(p: &Prepared) -> Self {
+        let min_rest = (MIN_REST_S / p.dt).ceil() as usize;
+        let half = ((0.5 * REST_SPEED_WINDOW_S / p.dt).round() as usize).max(1);
+        let mut departures = Vec::new();
+        for seg in &p.segments {
+            // the speed over the window centred on i, within the segment
+            let stuck = |i: usize| {
+                let (a, b) = (
+                    i.saturating_sub(half).max(seg.start),
+                    (i + half).min(seg.end - 1),
+                );
+                b > a && ((p.x[b] - p.x[a]) / ((b - a) as f64 * p.dt)).abs() < STUCK_SPEED
+            };
+            let mut i = seg.start;
+            while i < seg.end {
+                if !stuck(i) {
+                    i += 1;
+                    continue;
+                }
+                let start = i;
+                while i < seg.end && stuck(i) {
+                    i += 1;
+                }
+                let end = i;
+                // the rest's first samples at a segment start may be mid-rest: not counted
+                if end == seg.end || end - start < min_rest || start == seg.start {
+                    continue;
+                }
+                // the window's half-width both blurs the rest's end and the next rest's start
+                let end = (end + half).min(seg.end - 1);
+                let mut next = end;
+                while next < seg.end && !stuck(next) {
+                    next += 1;
+                }
+                let w = window(p, end, next);
+                let Some(fast) = (end..w.end).find(|&k| p.v[k].abs() >= DEPARTURE_SPEED) else {
+                    continue;
+                };
+                let d = p.v[fast].signum();
+                let peak_n = peak(&p.force, w, d);
+                // a breakaway pushes in the direction of the motion that follows; a start
+                // carried by inertia or a passing load is no breakaway
+                if d * peak_n <= 0.0 {
+                    continue;
+                }
+                let held = &p.force[start..end];
+                departures.push(Departure {
+                    index: end,
+                    time_s: p.t[end],
+                    rest_s: (end - start - half) as f64 * p.dt,
+                    direction: d,
+                    peak_n,
+                    holding_n: held.iter().sum::<f64>() / held.len() as f64,
+                });
+            }
+        }
+        let rests: Vec<f64> = departures.iter().map(|d| d.rest_s).collect();
+        let longest = rests.iter().cloned().fold(0.0, f64::max);
+        let shortest = rests.iter().cloned().fold(f64::INFINITY, f64::min);
+        let untestable = if departures.len() < MIN_DEPARTURES {
+            Some(format!(
+                "the record has {} departure(s) from a rest of {:.0} ms or more (needs {MIN_DEPARTURES}): record dwells of varied length",
+                departures.len(),
+                MIN_REST_S * 1e3
+            ))
+        } else if longest < MIN_REST_SPAN * shortest {
+            Some(format!(
+                "its rests hardly vary in length ({:.2} to {:.2} s; needs a ratio of {MIN_REST_SPAN:.0}): record dwells of varied length",
+                shortest, longest
+            ))
+        } else {
+            None
+        };
+        let trend = untestable.is_none().then(|| trend(&departures)).flatten();
+        Self {
+            departures,
+            trend,
+            untestable,
+        }
+    }
+
+    /// The breakaway peaks of a model's filtered force prediction, one per departure.
+    pub fn model_peaks(&self, p: &Prepared, prediction: &[f64]) -> Vec<f64> {
+        self.departures
+            .iter()
+            .map(|d| {
+                let next = (d.index..p.len())
+                    .find(|&k| p.v[k].abs() < STUCK_SPEED)
+                    .unwrap_or(p.len());
+                peak(prediction, window(p, d.index, next), d.direction)
+            })
+            .collect()
+    }
+
+    /// Sum of squared peak residuals of a model's prediction [N^2].
+    pub fn peak_rss(&self, p: &Prepared, prediction: &[f64]) -> f64 {
+        self.model_peaks(p, prediction)
+            .iter()
+            .zip(&self.departures)
+            .map(|(m, d)| (d.peak_n - m).powi(2))
+            .sum()
+    }
+
+    /// Evidence from the peaks for a candidate's prediction over the current model's:
+    /// `n ln(RSS_current / RSS_candidate)`; 0 without departures.
+    pub fn peak_dbic(&self, p: &Prepared, current: &[f64], candidate: &[f64]) -> f64 {
+        let n = self.departures.len();
+        if n == 0 {
+            return 0.0;
+        }
+        let (r0, r1) = (self.peak_rss(p, current), self.peak_rss(p, candidate));
+        if !(r0 > 0.0 && r1 > 0.0) {
+            return 0.0;
+        }
+        n as f64 * (r0 / r1).ln()
+    }
+}
+
+/// The model-free dwell trend (see the module docs); `None` when the fit is degenerate.
+fn trend(deps: &[Departure]) -> Option<DwellTrend> {
+    let n = deps.len();
+    let mags: Vec<f64> = deps.iter().map(|d| d.direction * d.peak_n).collect();
+    let fwd: Vec<f64> = deps
+        .iter()
+        .map(|d| if d.direction > 0.0 { 1.0 } else { 0.0 })
+        .collect();
+    // null: one level per direction (means)
+    let mean_of = |sel: f64| {
+        let (s, k) = mags
+            .iter()
+            .zip(&fwd)
+            .filter(|(_, f)| **f == sel)
+            .fold((0.0, 0usize), |(s, k), (m, _)| (s + m, k + 1));
+        (k > 0).then(|| s / k as f64)
+    };
+    let (m_f, m_b) = (mean_of(1.0), mean_of(0.0));
+    let rss0: f64 = mags
+        .iter()
+        .zip(&fwd)
+        .map(|(m, f)| {
+            let c = if *f == 1.0 { m_f } else { m_b }.unwrap_or(0.0);
+            (m - c).powi(2)
+        })
+        .sum();
+    let mut best: Option<(f64, [f64; 3], f64, f64)> = None;
+    for tau in TAU_GRID {
+        // columns: forward indicator, backward indicator, w(t_rest)
+        let rows: Vec<[f64; 3]> = deps
+            .iter()
+            .zip(&fwd)
+            .map(|(d, f)| [*f, 1.0 - f, -(-d.rest_s / tau).exp_m1()])
+            .collect();
+        let Some((beta, cov_w)) = least_squares3(&rows, &mags) else {
+            continue;
+        };
+        let rss: f64 = rows
+            .iter()
+            .zip(&mags)
+            .map(|(r, m)| (m - (beta[0] * r[0] + beta[1] * r[1] + beta[2] * r[2])).powi(2))
+            .sum();
+        if best.as_ref().is_none_or(|b| rss < b.0) {
+            best = Some((rss, beta, cov_w, tau));
+        }
+    }
+    let (rss1, beta, cov_w, tau) = best?;
+    let dof = n.saturating_sub(3).max(1);
+    let se = (rss1 / dof as f64 * cov_w).sqrt();
+    let delta_bic = n as f64 * (rss0 / rss1.max(1e-300)).ln() - 2.0 * (n as f64).ln();
+    Some(DwellTrend {
+        level_n: [beta[0], beta[1]],
+        increase_n: beta[2],
+        increase_ci_n: crate::stats::student_t95(dof) * se,
+        time_constant_s: tau,
+        delta_bic,
+    })
+}
+
+/// Least squares with three columns: the coefficients and the third one's variance factor
+/// `(A^T A)^-1_33`; `None` when `A^T A` is singular.
+fn least_squares3(rows: &[[f64; 3]], y: &[f64]) -> Option<([f64; 3], f64)> {
+    let mut ata = nalgebra::Matrix3::<f64>::zeros();
+    let mut aty = nalgebra::Vector3::<f64>::zeros();
+    for (r, yi) in rows.iter().zip(y) {
+        let a = nalgebra::Vector3::from(*r);
+        ata += a * a.transpose();
+        aty += a * *yi;
+    }
+    let inv = ata.try_inverse()?;
+    let b = inv * aty;
+    Some(([b[0], b[1], b[2]], inv[(2, 2)]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn departures(rests: &[f64], increase: f64) -> Vec<Departure> {
+        rests
+            .iter()
+            .enumerate()
+            .map(|(i, &r)| {
+                let d = if i % 2 == 0 { 1.0 } else { -1.0 };
+                // a small deterministic scatter
+                let wobble = 3.0 * ((i as f64) * 1.7).sin();
+                let level = if d > 0.0 { 120.0 } else { 100.0 };
+                Departure {
+                    index: i,
+                    time_s: i as f64,
+                    rest_s: r,
+                    direction: d,
+                    peak_n: d * (level + increase * -(-r / 0.3f64).exp_m1() + wobble),
+                    holding_n: 0.0,
+                }
+            })
+            .collect()
+    }
+
+    const RESTS: [f64; 12] = [
+        0.03, 2.0, 0.05, 1.0, 0.1, 0.5, 0.04, 3.0, 0.2, 0.08, 1.5, 0.3,
+    ];
+
+    #[test]
+    fn the_trend_finds_peaks_that_grow_with_the_rest() {
+        let t = trend(&departures(&RESTS, 40.0)).expect("trend");
+        assert!(t.delta_bic > 10.0, "{t:?}");
+        assert!((t.increase_n - 40.0).abs() < 8.0, "{t:?}");
+        assert!(t.increase_n - t.increase_ci_n > 0.0, "{t:?}");
+        // the direction levels are kept apart (asymmetric breakaway)
+        assert!((t.level_n[0] - 120.0).abs() < 6.0 && (t.level_n[1] - 100.0).abs() < 6.0);
+    }
+
+    #[test]
+    fn constant_peaks_show_no_trend() {
+        let t = trend(&departures(&RESTS, 0.0)).expect("trend");
+        assert!(t.delta_bic < 2.0, "{t:?}");
+        assert!(t.increase_n.abs() < t.increase_ci_n + 3.0, "{t:?}");
+    }
+}
