@@ -75,3 +75,4 @@ pub mod axis;
 pub mod control;
 pub mod friction;
 pub mod identify;
+pub mod link;

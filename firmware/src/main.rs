@@ -11,20 +11,15 @@
 #![no_std]
 #![no_main]
 
-mod board;
-mod plant;
-
-/// The friction model and mass of the parameter file (see build.rs: `LUGRE_PARAMS`).
-mod params {
-    include!(concat!(env!("OUT_DIR"), "/params.rs"));
-}
-
-use board::{Board, QemuBoard};
-use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use lugre_servo::axis::AxisGeometry;
 use lugre_servo::control::{Controller, ControllerConfig, Features, Reference};
+use lugre_servo_firmware::board::{self, Board, QemuBoard};
+use lugre_servo_firmware::cycles::{self, Cycles};
+use lugre_servo_firmware::params;
+// the register blocks' interrupt vectors
+use stm32f4 as _;
 
 #[cfg(feature = "defmt")]
 use defmt_rtt as _;
@@ -40,39 +35,6 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     }
 }
 
-/// SysTick counts elapsed (it counts down, 24 bits).
-fn elapsed(start: u32, end: u32) -> u32 {
-    start.wrapping_sub(end) & 0x00FF_FFFF
-}
-
-#[inline(always)]
-fn nop10() {
-    cortex_m::asm::nop();
-    cortex_m::asm::nop();
-    cortex_m::asm::nop();
-    cortex_m::asm::nop();
-    cortex_m::asm::nop();
-    cortex_m::asm::nop();
-    cortex_m::asm::nop();
-    cortex_m::asm::nop();
-    cortex_m::asm::nop();
-    cortex_m::asm::nop();
-}
-
-#[inline(always)]
-fn nop100() {
-    nop10();
-    nop10();
-    nop10();
-    nop10();
-    nop10();
-    nop10();
-    nop10();
-    nop10();
-    nop10();
-    nop10();
-}
-
 #[entry]
 fn main() -> ! {
     let mut cp = cortex_m::Peripherals::take().unwrap_or_else(|| {
@@ -81,29 +43,7 @@ fn main() -> ! {
             cortex_m::asm::wfi();
         }
     });
-    let syst = &mut cp.SYST;
-    syst.set_clock_source(SystClkSource::Core);
-    syst.set_reload(0x00FF_FFFF);
-    syst.clear_current();
-    syst.enable_counter();
-
-    // calibration: SysTick counts per instruction under -icount
-    let t0 = SYST::get_current();
-    let t1 = SYST::get_current();
-    let empty = elapsed(t0, t1);
-    let t0 = SYST::get_current();
-    nop100();
-    nop100();
-    nop100();
-    nop100();
-    nop100();
-    nop100();
-    nop100();
-    nop100();
-    nop100();
-    nop100();
-    let t1 = SYST::get_current();
-    let per_1000 = elapsed(t0, t1).saturating_sub(empty).max(1);
+    let cal = Cycles::calibrate(&mut cp.SYST);
 
     // the identified model from the parameter file, on the simulated axis's geometry
     let axis = AxisGeometry {
@@ -116,7 +56,7 @@ fn main() -> ! {
     let (amp, w) = (0.002f32, 2.0 * core::f32::consts::PI * 0.5);
     let n = 4000;
     let (mut sum_sq, mut max_err, mut count) = (0.0f32, 0.0f32, 0u32);
-    let (mut worst_ticks, mut total_ticks) = (0u32, 0u64);
+    let (mut worst_instr, mut total_instr) = (0u32, 0u64);
     let mut faults = 0u32;
     for k in 0..n {
         let t = k as f32 * 1e-3;
@@ -127,12 +67,12 @@ fn main() -> ! {
             acceleration_m_per_s2: -amp * w * w * s,
         };
         let m = board.sample();
-        let t0 = SYST::get_current();
+        let t0 = cycles::now();
         let out = ctrl.tick(&m, &r);
-        let t1 = SYST::get_current();
-        let ticks = elapsed(t0, t1).saturating_sub(empty);
-        worst_ticks = worst_ticks.max(ticks);
-        total_ticks += ticks as u64;
+        let t1 = cycles::now();
+        let instructions = cal.instructions(t0, t1);
+        worst_instr = worst_instr.max(instructions);
+        total_instr += instructions as u64;
         if !out.faults.is_empty() {
             faults += 1;
             #[cfg(feature = "defmt")]
@@ -153,8 +93,7 @@ fn main() -> ! {
         }
     }
     let rms = libm::sqrtf(sum_sq / count as f32);
-    let mean_instr = (total_ticks as f32 / n as f32) * 1000.0 / per_1000 as f32;
-    let worst_instr = worst_ticks as f32 * 1000.0 / per_1000 as f32;
+    let mean_instr = total_instr / n as u64;
     hprintln!(
         "parameters: {} (sigma0 {} N/m, Fc {} N, Fs {} N)",
         params::SOURCE,
@@ -164,12 +103,12 @@ fn main() -> ! {
     );
     hprintln!(
         "calibration: {} SysTick counts per 1000 instructions",
-        per_1000
+        cal.per_1000
     );
     hprintln!(
         "controller tick: mean {} instructions, worst {}",
-        mean_instr as u32,
-        worst_instr as u32
+        mean_instr,
+        worst_instr
     );
     hprintln!(
         "tracking 2 mm / 0.5 Hz: rms {} um, max {} um, fault periods {}",

@@ -77,6 +77,9 @@ pub enum Error {
     /// Command-line arguments that cannot be used together.
     #[error("{0}")]
     Usage(&'static str),
+    /// The processor-in-the-loop session failed (QEMU, the firmware or the link).
+    #[error("processor-in-the-loop: {0}")]
+    Pil(String),
     /// A command-line value out of its range.
     #[error("{flag} {problem}")]
     Argument {

@@ -10,6 +10,7 @@ pub mod error;
 pub mod experiments;
 pub mod identify;
 pub mod params_file;
+pub mod pil;
 pub mod plant;
 pub mod record;
 pub mod robustness;

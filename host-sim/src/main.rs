@@ -31,6 +31,9 @@ enum Command {
     Diagnose(cli::diagnose::Args),
     /// Runs one experiment on the simulated axis and writes the record as CSV.
     Simulate(cli::simulate::Args),
+    /// Processor-in-the-loop: the firmware in QEMU controls the simulated axis over the
+    /// emulated USART; compared with the same controller on the host.
+    Pil(cli::pil::Args),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +43,7 @@ fn main() -> ExitCode {
         Command::Track(a) => cli::track::run(&a),
         Command::Diagnose(a) => cli::diagnose::run(&a),
         Command::Simulate(a) => cli::simulate::run(&a),
+        Command::Pil(a) => cli::pil::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -47,6 +47,8 @@ pub struct Run {
     pub fault_ticks: usize,
     /// Oil temperature at the end [degC].
     pub final_temperature_c: f64,
+    /// When the friction health monitor first warned [s] (None: never).
+    pub first_health_warning_s: Option<f64>,
 }
 
 /// Runs `ctrl` against `plant` following `reference(t) -> (x, v, a)` for `duration` s.
@@ -56,6 +58,26 @@ pub fn run(
     ctrl: ControllerConfig,
     reference: &dyn Fn(f64) -> (f64, f64, f64),
     duration: f64,
+) -> Run {
+    run_changing(
+        plant_cfg,
+        sensors,
+        ctrl,
+        reference,
+        duration,
+        &mut |_, _| {},
+    )
+}
+
+/// As [`run`], with `change(t, plant)` called before every period: a plant whose friction
+/// drifts during the run (wear, contamination) for the health monitor's tests.
+pub fn run_changing(
+    plant_cfg: &PlantConfig,
+    sensors: SensorConfig,
+    ctrl: ControllerConfig,
+    reference: &dyn Fn(f64) -> (f64, f64, f64),
+    duration: f64,
+    change: &mut dyn FnMut(f64, &mut Plant),
 ) -> Run {
     let dt = 1e-3;
     let (x0, _, _) = reference(0.0);
@@ -68,8 +90,10 @@ pub fn run(
     let mut reversal_err: f64 = 0.0;
     let mut last_v = 0.0f64;
     let mut since_reversal = f64::INFINITY;
+    let mut first_health_warning_s = None;
     for k in 0..n {
         let t = k as f64 * dt;
+        change(t, &mut plant);
         let m = sens.sample(&plant);
         let (x, v, a) = reference(t);
         let out = controller.tick(
@@ -85,6 +109,9 @@ pub fn run(
                 acceleration_m_per_s2: a as f32,
             },
         );
+        if out.health_warning && first_health_warning_s.is_none() {
+            first_health_warning_s = Some(t);
+        }
         if !out.faults.is_empty() {
             fault_ticks += 1;
             if std::env::var_os("LUGRE_DEBUG").is_some() {
@@ -125,6 +152,7 @@ pub fn run(
         final_model: *controller.model(),
         fault_ticks,
         final_temperature_c: plant.state.temperature_c,
+        first_health_warning_s,
     }
 }
 

@@ -5,6 +5,7 @@ use super::dob::DisturbanceObserver;
 use super::estimator::{Estimator, EstimatorConfig};
 use super::faults::{Faults, RECOVERY_TICKS};
 use super::feedforward::{observer_weight, Feedforward};
+use super::health::{HealthConfig, HealthEvent, HealthMonitor};
 use super::observer::Observer;
 use super::position::{Cascade, CascadeConfig};
 use super::refine::{RefineConfig, Refiner};
@@ -115,6 +116,8 @@ pub struct ControllerConfig {
     pub features: Features,
     /// Supervisor thresholds.
     pub supervisor: SupervisorConfig,
+    /// Friction health monitor settings (see [`super::health`]).
+    pub health: HealthConfig,
     /// Control period [s].
     pub period_s: f32,
 }
@@ -166,6 +169,7 @@ impl ControllerConfig {
             refine: RefineConfig::default(),
             features,
             supervisor: SupervisorConfig::default(),
+            health: HealthConfig::default(),
             period_s: 1e-3,
         }
     }
@@ -212,6 +216,9 @@ pub struct Output {
     pub friction_residual_n: f32,
     /// Fault flags of this period.
     pub faults: Faults,
+    /// The friction has left the identified band (a warning, not a fault: the loop runs on;
+    /// see [`super::health`]).
+    pub health_warning: bool,
     /// True while in the safe state.
     pub safe: bool,
 }
@@ -373,6 +380,22 @@ impl ControllerConfig {
         if !(s.stuck_command.is_finite() && s.stuck_command > 0.0 && s.stuck_command <= 1.0) {
             return err("supervisor.stuck_command", "must be within (0, 1]");
         }
+        let h = &self.health;
+        if h.block_ticks == 0 {
+            return err("health.block_ticks", "must be at least 1");
+        }
+        for (field, v) in [
+            ("health.band", h.band),
+            ("health.min_speed_factor", h.min_speed_factor),
+            (
+                "health.max_acceleration_m_per_s2",
+                h.max_acceleration_m_per_s2,
+            ),
+        ] {
+            if !positive(v) {
+                return err(field, "must be a finite number greater than zero");
+            }
+        }
         Ok(())
     }
 
@@ -396,7 +419,7 @@ struct Gains {
 }
 
 /// The controller state.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Controller {
     config: ControllerConfig,
     gains: Gains,
@@ -413,6 +436,7 @@ pub struct Controller {
     last_ref: Option<f32>,
     stuck_ticks: u32,
     last_position: f32,
+    health: HealthMonitor,
 }
 
 impl Controller {
@@ -441,6 +465,7 @@ impl Controller {
             last_ref: None,
             stuck_ticks: 0,
             last_position: 0.0,
+            health: HealthMonitor::default(),
             gains: Gains {
                 dob: DisturbanceObserver::gain(config.dob_cutoff_hz, config.period_s),
                 residual: DisturbanceObserver::gain(config.residual_cutoff_hz, config.period_s),
@@ -458,6 +483,16 @@ impl Controller {
     /// The safe-state machine's mode.
     pub fn mode(&self) -> Mode {
         self.mode
+    }
+
+    /// The friction health monitor (its ratio and warning).
+    pub fn health(&self) -> &HealthMonitor {
+        &self.health
+    }
+
+    /// The oldest undelivered health event, for telemetry at low priority.
+    pub fn pop_health_event(&mut self) -> Option<HealthEvent> {
+        self.health.pop_event()
     }
 
     /// One control period: supervise inputs -> estimate -> compensate -> cascade ->
@@ -500,7 +535,10 @@ impl Controller {
             return safe;
         }
         out.valve_command = co.command;
-        // 6. refinement, after the output: it adapts the model the next period uses
+        // 6. health: the friction the force balance shows against the identified model
+        self.monitor_health(m, r, measured_force);
+        out.health_warning = self.health.warning();
+        // 7. refinement, after the output: it adapts the model the next period uses
         if c.features.refinement && !self.refine(measured_force) {
             out.faults.insert(Faults::REFINEMENT_RESET);
         }
@@ -689,6 +727,32 @@ impl Controller {
         } else {
             None
         }
+    }
+
+    /// Feeds the health monitor: while the axis slides steadily, the friction of the force
+    /// balance against the identified model's (not the refined one's: the refinement follows
+    /// the drift the monitor is there to report).
+    fn monitor_health(&mut self, m: &Measurements, r: &Reference, measured_force: f32) {
+        let c = &self.config;
+        let est = &self.estimator;
+        let vs = c.model.params.stribeck_velocity();
+        let sliding = est.velocity.abs() > c.health.min_speed_factor * vs
+            && r.acceleration_m_per_s2.abs() < c.health.max_acceleration_m_per_s2;
+        let model_n = if sliding {
+            let cond = Conditions {
+                position: est.position,
+                pressure_sum: m.pressure_a_pa + m.pressure_b_pa,
+                temperature: m
+                    .temperature_c
+                    .unwrap_or(c.model.effects.reference_conditions().temperature),
+            };
+            c.model.steady_state_force(est.velocity, &cond)
+        } else {
+            0.0
+        };
+        let measured_n = measured_force - c.mass_kg * est.acceleration;
+        self.health
+            .update(&c.health, sliding, est.velocity, measured_n, model_n);
     }
 
     /// Online refinement of Fc, Fs - Fc and sigma2 from the measured friction; false when it

@@ -3,6 +3,7 @@
 //! [`feedforward`] (friction from the reference, blended with the observer), [`position`]
 //! (position -> force -> valve cascade), [`refine`] (online RLS of Fc, Fs - Fc, sigma2),
 //! [`dob`] (the model-free disturbance observer practitioners use, for comparison),
+//! [`health`] (is the friction still the identified one?),
 //! [`faults`], and [`controller`] which composes them.
 
 pub mod controller;
@@ -10,6 +11,7 @@ pub mod dob;
 pub mod estimator;
 pub mod faults;
 pub mod feedforward;
+pub mod health;
 pub mod observer;
 pub mod position;
 pub mod refine;

@@ -3,6 +3,7 @@
 pub mod demo;
 pub mod diagnose;
 pub mod identify;
+pub mod pil;
 pub mod simulate;
 pub mod track;
 
