@@ -48,7 +48,13 @@ pub struct Session {
     pub inject: bool,
     /// Run only this long instead of the whole scenario [s].
     pub seconds: Option<f64>,
+    /// Raise the plant's friction levels (Fc, Fs, sigma2) by this fraction at
+    /// [`RISE_AT_S`] (wear, contamination), in both runs: the health monitor must warn.
+    pub friction_rise: Option<f64>,
 }
+
+/// When `friction_rise` steps the plant's friction up [s].
+pub const RISE_AT_S: f64 = 8.0;
 
 /// The faults injected, and when [s].
 #[derive(Clone, Copy, Debug)]
@@ -107,6 +113,10 @@ pub struct Report {
     pub health_ratio: f32,
     /// Any period with the health warning.
     pub health_warned: bool,
+    /// When the firmware first reported the health warning [s] (None: never).
+    pub first_health_warning_s: Option<f64>,
+    /// The same on the host run [s].
+    pub host_first_health_warning_s: Option<f64>,
     /// The injected link faults and the firmware's answers (with --inject-faults).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub fault_checks: Vec<FaultCheck>,
@@ -348,7 +358,16 @@ pub fn run(s: &Session) -> Result<Report> {
     let (mut instr_sum, mut instr_n, mut instr_worst) = (0u64, 0u64, 0u32);
     let mut fault_periods = 0u32;
     let mut last = ActuationFrame::default();
-    let mut health_warned = false;
+    let mut first_warning = None;
+    let base = plant_cfg.friction.params;
+    let rise = |t: f64, plant: &mut Plant| {
+        if let Some(r) = s.friction_rise {
+            let k = if t < RISE_AT_S { 1.0 } else { 1.0 + r };
+            if let Some(q) = crate::scenarios::scale_friction_levels(&base, k) {
+                plant.config.friction.params = q;
+            }
+        }
+    };
     let mut checks: Vec<FaultCheck> = Vec::new();
     // (fault, the period it was injected, its answer checked, periods since)
     let mut open: Option<(String, bool, u32)> = None;
@@ -363,6 +382,7 @@ pub fn run(s: &Session) -> Result<Report> {
             bar.set_position(k as u64);
         }
         let t = k as f64 * dt;
+        rise(t, &mut plant);
         let m = sens.sample(&plant);
         let (x, v, a) = reference(t);
         let frame = SensorFrame {
@@ -428,7 +448,9 @@ pub fn run(s: &Session) -> Result<Report> {
         if reply.faults != 0 {
             fault_periods += 1;
         }
-        health_warned |= reply.status & 2 != 0;
+        if reply.status & 2 != 0 && first_warning.is_none() {
+            first_warning = Some(t);
+        }
         last = reply;
         plant.advance(f64::from(reply.valve_command), dt);
         let (xr, _, _) = reference(t + dt);
@@ -448,12 +470,13 @@ pub fn run(s: &Session) -> Result<Report> {
     }
     drop(stream);
     drop(qemu);
-    let host = track::run(
+    let host = track::run_changing(
         &plant_cfg,
         sensors,
         controller_config(s.model, s.mass_kg),
         &reference,
         duration,
+        &mut |t, plant| rise(t, plant),
     );
     Ok(Report {
         scenario: s.scenario.clone(),
@@ -468,7 +491,9 @@ pub fn run(s: &Session) -> Result<Report> {
         frames_bad: last.frames_bad,
         fault_periods,
         health_ratio: last.health_ratio,
-        health_warned,
+        health_warned: first_warning.is_some(),
+        first_health_warning_s: first_warning,
+        host_first_health_warning_s: host.first_health_warning_s,
         fault_checks: checks,
         wall_s: wall.elapsed().as_secs_f64(),
     })

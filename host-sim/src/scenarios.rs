@@ -118,3 +118,19 @@ pub fn diagnosis_run(cfg: &PlantConfig, sensors: SensorConfig, duration: f64) ->
 fn rig_len(rig: &Rig) -> usize {
     (rig.plant.state.t / PERIOD_S).round() as usize
 }
+
+/// The plant's friction levels (Fc, Fs, sigma2) scaled by `k` (other parameters kept).
+pub fn scale_friction_levels(
+    base: &lugre_servo::friction::LugreParams<f64>,
+    k: f64,
+) -> Option<lugre_servo::friction::LugreParams<f64>> {
+    lugre_servo::friction::LugreParams::new(
+        base.bristle_stiffness(),
+        base.bristle_damping(),
+        k * base.viscous_coefficient(),
+        k * base.coulomb_force(),
+        k * base.static_force(),
+        base.stribeck_velocity(),
+    )
+    .ok()
+}

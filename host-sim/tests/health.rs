@@ -5,22 +5,10 @@
 
 use host_sim::params_file::ParamFile;
 use host_sim::plant::{Plant, PlantConfig, SensorConfig};
+use host_sim::scenarios::scale_friction_levels;
 use host_sim::track::{self, drift_reference, low_speed_reference};
 use lugre_servo::control::{ControllerConfig, Features};
 use lugre_servo::friction::{FrictionModel, LugreParams};
-
-/// The plant's friction levels (Fc, Fs, sigma2) scaled by `k`.
-fn scaled(base: &LugreParams<f64>, k: f64) -> LugreParams<f64> {
-    LugreParams::new(
-        base.bristle_stiffness(),
-        base.bristle_damping(),
-        k * base.viscous_coefficient(),
-        k * base.coulomb_force(),
-        k * base.static_force(),
-        base.stribeck_velocity(),
-    )
-    .expect("scaled Table 2 is physical")
-}
 
 /// The model the firmware runs with (identified from realistic sensors).
 fn firmware_model() -> FrictionModel<f32> {
@@ -42,7 +30,10 @@ fn first_warning(model: FrictionModel<f32>, scale: &dyn Fn(f64) -> f64) -> Optio
         config(model),
         &drift_reference,
         60.0,
-        &mut |t, plant: &mut Plant| plant.config.friction.params = scaled(&base, scale(t)),
+        &mut |t, plant: &mut Plant| {
+            plant.config.friction.params =
+                scale_friction_levels(&base, scale(t)).expect("scaled Table 2 is physical")
+        },
     );
     assert_eq!(run.fault_ticks, 0);
     run.first_health_warning_s

@@ -381,8 +381,8 @@ impl ControllerConfig {
             return err("supervisor.stuck_command", "must be within (0, 1]");
         }
         let h = &self.health;
-        if h.block_ticks == 0 {
-            return err("health.block_ticks", "must be at least 1");
+        if h.block_samples == 0 || h.decimation == 0 {
+            return err("health", "block_samples and decimation must be at least 1");
         }
         for (field, v) in [
             ("health.band", h.band),
@@ -536,7 +536,9 @@ impl Controller {
         }
         out.valve_command = co.command;
         // 6. health: the friction the force balance shows against the identified model
-        self.monitor_health(m, r, measured_force);
+        if self.health.sample_due(&c.health) {
+            self.monitor_health(m, r, measured_force);
+        }
         out.health_warning = self.health.warning();
         // 7. refinement, after the output: it adapts the model the next period uses
         if c.features.refinement && !self.refine(measured_force) {

@@ -3,18 +3,21 @@
 //! Friction drifts in service: seals wear, the oil warms, dirt gets in. The monitor compares
 //! the friction the axis shows with the identified model, on the target, in fixed memory.
 //!
-//! While the axis slides steadily (`|v| > min_speed_factor vs` and `|a_ref| <
-//! max_acceleration`), each period contributes, with `d = sign(v)`:
+//! Every `decimation`-th period (10: the statistic is a 5 s average, and one sample per 10 ms
+//! carries what the 1 kHz periods in between would repeat, at a tenth of the cost: the model's
+//! steady-state friction costs an exponential), while the axis slides steadily (`|v| >
+//! min_speed_factor vs` and `|a_ref| < max_acceleration`), a sample contributes, with
+//! `d = sign(v)`:
 //!
 //! ```text
 //! measured  d (F_actuator - M a)        the force balance: what friction took
 //! model     d F_ss(v)                   the identified model's steady-state friction
 //! ```
 //!
-//! Periods are summed in blocks of `block_ticks`; the last [`WINDOW_BLOCKS`] blocks live in a
+//! Samples are summed in blocks of `block_samples`; the last [`WINDOW_BLOCKS`] blocks live in a
 //! `heapless::HistoryBuffer` (a ring that overwrites the oldest), and the health ratio is
 //! `rho = sum measured / sum model` over them, once they hold `min_window_samples` sliding
-//! periods. Noise in `a` and in the pressures averages out over thousands of periods; a change
+//! samples. Noise in `a` and in the pressures averages out over thousands of periods; a change
 //! of the friction levels does not. The monitor **warns** when `rho` leaves
 //! `[1 - band, 1 + band]` and clears when it is back within half the band (hysteresis: no
 //! chatter at the edge). Each change is a [`HealthEvent`] in a `heapless::Deque` that telemetry
@@ -22,7 +25,8 @@
 
 use heapless::{Deque, HistoryBuffer};
 
-/// Blocks in the sliding window (5 s at the default 100 periods per block and 1 kHz).
+/// Blocks in the sliding window (5 s at the defaults: 10 samples of every 10th period per
+/// block, 1 kHz).
 pub const WINDOW_BLOCKS: usize = 50;
 /// Events kept until telemetry drains them.
 pub const EVENT_QUEUE: usize = 8;
@@ -31,9 +35,11 @@ pub const EVENT_QUEUE: usize = 8;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct HealthConfig {
-    /// Periods per block.
-    pub block_ticks: u32,
-    /// Sliding periods the window needs before `rho` is judged.
+    /// The monitor samples every `decimation`-th period.
+    pub decimation: u32,
+    /// Samples per block.
+    pub block_samples: u32,
+    /// Sliding samples the window needs before `rho` is judged.
     pub min_window_samples: u32,
     /// Half-width of the healthy band of `rho` [-] (0.2: within +-20 % of the model).
     pub band: f32,
@@ -46,8 +52,9 @@ pub struct HealthConfig {
 impl Default for HealthConfig {
     fn default() -> Self {
         Self {
-            block_ticks: 100,
-            min_window_samples: 1000,
+            decimation: 10,
+            block_samples: 10,
+            min_window_samples: 100,
             band: 0.2,
             min_speed_factor: 3.0,
             max_acceleration_m_per_s2: 1.0,
@@ -63,14 +70,14 @@ pub enum HealthEvent {
     Warning {
         /// The ratio when it left [-].
         ratio: f32,
-        /// Period count when it left.
+        /// Periods counted by [`HealthMonitor::sample_due`] when it left.
         tick: u32,
     },
     /// `rho` came back within half the band.
     Cleared {
         /// The ratio when it came back [-].
         ratio: f32,
-        /// Period count when it came back.
+        /// Periods counted by [`HealthMonitor::sample_due`] when it came back.
         tick: u32,
     },
 }
@@ -87,7 +94,8 @@ struct Block {
 pub struct HealthMonitor {
     blocks: HistoryBuffer<Block, WINDOW_BLOCKS>,
     open: Block,
-    open_ticks: u32,
+    open_samples: u32,
+    phase: u32,
     ticks: u32,
     ratio: Option<f32>,
     warning: bool,
@@ -99,7 +107,8 @@ impl Default for HealthMonitor {
         Self {
             blocks: HistoryBuffer::new(),
             open: Block::default(),
-            open_ticks: 0,
+            open_samples: 0,
+            phase: 0,
             ticks: 0,
             ratio: None,
             warning: false,
@@ -109,7 +118,19 @@ impl Default for HealthMonitor {
 }
 
 impl HealthMonitor {
-    /// One period. `sliding` says whether the axis slides steadily (see the module docs);
+    /// Counts a period; true on the periods the monitor samples (every `decimation`-th).
+    pub fn sample_due(&mut self, c: &HealthConfig) -> bool {
+        self.ticks = self.ticks.wrapping_add(1);
+        self.phase += 1;
+        if self.phase >= c.decimation.max(1) {
+            self.phase = 0;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// One sample. `sliding` says whether the axis slides steadily (see the module docs);
     /// `measured_n` is `F_actuator - M a` and `model_n` the model's steady-state friction at the
     /// same velocity [N]. Non-finite inputs are skipped.
     pub fn update(
@@ -120,20 +141,19 @@ impl HealthMonitor {
         measured_n: f32,
         model_n: f32,
     ) {
-        self.ticks = self.ticks.wrapping_add(1);
         if sliding && measured_n.is_finite() && model_n.is_finite() {
             let d = if velocity_m_per_s >= 0.0 { 1.0 } else { -1.0 };
             self.open.measured_n += d * measured_n;
             self.open.model_n += d * model_n;
             self.open.samples += 1;
         }
-        self.open_ticks += 1;
-        if self.open_ticks < c.block_ticks.max(1) {
+        self.open_samples += 1;
+        if self.open_samples < c.block_samples.max(1) {
             return;
         }
         self.blocks.write(self.open);
         self.open = Block::default();
-        self.open_ticks = 0;
+        self.open_samples = 0;
         self.judge(c);
     }
 
@@ -193,10 +213,14 @@ impl HealthMonitor {
 mod tests {
     use super::*;
 
-    /// Runs `ticks` periods of steady sliding at 50 mm/s with friction `scale` times the
-    /// model's 1000 N, with deterministic noise of +-300 N on the measurement.
-    fn run(m: &mut HealthMonitor, c: &HealthConfig, ticks: u32, scale: f32) {
-        for k in 0..ticks {
+    /// Runs `seconds` of steady sliding at 50 mm/s (1 kHz periods, sampled as the controller
+    /// samples) with friction `scale` times the model's 1000 N and deterministic noise of
+    /// +-300 N on the measurement.
+    fn run(m: &mut HealthMonitor, c: &HealthConfig, seconds: f32, scale: f32) {
+        for k in 0..(seconds * 1000.0) as u32 {
+            if !m.sample_due(c) {
+                continue;
+            }
             let noise = 300.0 * libm::sinf(k as f32 * 1.3);
             let v = if (k / 2000) % 2 == 0 { 0.05 } else { -0.05 };
             let d = if v > 0.0 { 1.0 } else { -1.0 };
@@ -208,14 +232,14 @@ mod tests {
     fn a_30_percent_rise_warns_once_and_a_return_clears() {
         let c = HealthConfig::default();
         let mut m = HealthMonitor::default();
-        run(&mut m, &c, 20_000, 1.0);
+        run(&mut m, &c, 20.0, 1.0);
         assert!(!m.warning());
         assert!((m.ratio().unwrap() - 1.0).abs() < 0.02, "{:?}", m.ratio());
         assert_eq!(m.pop_event(), None);
         // friction 30 % up: warns within the window (5 s)
         let mut warned_after = None;
         for s in 0..100 {
-            run(&mut m, &c, 100, 1.3);
+            run(&mut m, &c, 0.1, 1.3);
             if m.warning() {
                 warned_after = Some(s as f32 * 0.1);
                 break;
@@ -225,10 +249,10 @@ mod tests {
         assert!(t < 5.0, "warned after {t} s");
         assert!(matches!(m.pop_event(), Some(HealthEvent::Warning { ratio, .. }) if ratio > 1.2));
         // staying high raises no second event
-        run(&mut m, &c, 10_000, 1.3);
+        run(&mut m, &c, 10.0, 1.3);
         assert_eq!(m.pop_event(), None);
         // back to normal: cleared
-        run(&mut m, &c, 10_000, 1.0);
+        run(&mut m, &c, 10.0, 1.0);
         assert!(!m.warning());
         assert!(matches!(m.pop_event(), Some(HealthEvent::Cleared { .. })));
     }
@@ -250,7 +274,7 @@ mod tests {
     fn a_full_queue_drops_the_oldest_event() {
         let c = HealthConfig {
             min_window_samples: 1,
-            block_ticks: 1,
+            block_samples: 1,
             ..Default::default()
         };
         let mut m = HealthMonitor::default();

@@ -24,6 +24,10 @@ pub struct Args {
     /// Run only the first SECONDS of the scenario (the host run too).
     #[arg(long)]
     seconds: Option<f64>,
+    /// Raise the plant's friction levels by this fraction 8 s into the run (0.3: +30 %), to see
+    /// the firmware's health monitor warn.
+    #[arg(long)]
+    friction_rise: Option<f64>,
     /// Sensor noise seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -54,6 +58,7 @@ pub fn run(a: &Args) -> Result<()> {
         seed: a.seed,
         inject: a.inject_faults,
         seconds: a.seconds,
+        friction_rise: a.friction_rise,
     };
     let r = pil::run(&session)?;
     println!(
@@ -75,7 +80,11 @@ pub fn run(a: &Args) -> Result<()> {
         r.frames_bad,
         r.fault_periods,
         r.health_ratio,
-        if r.health_warned { " (WARNED)" } else { "" }
+        r.first_health_warning_s.map_or(String::new(), |t| format!(
+            " (warned at {t:.2} s; host run {})",
+            r.host_first_health_warning_s
+                .map_or("never".into(), |h| format!("{h:.2} s"))
+        ))
     );
     for c in &r.fault_checks {
         println!(
