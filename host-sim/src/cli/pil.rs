@@ -99,6 +99,26 @@ pub fn run(a: &Args) -> Result<()> {
     if let Some(path) = &a.json {
         super::write_json(path, &r)?;
     }
+    // the health monitor: a warning within 10 s of a rise of the friction levels, none without
+    match (a.friction_rise, r.first_health_warning_s) {
+        (None, Some(t)) => {
+            return Err(Error::Pil(format!(
+                "the health monitor warned at {t:.2} s on a run without drift"
+            )))
+        }
+        (Some(_), None) => {
+            return Err(Error::Pil(
+                "the health monitor did not warn after the friction rise".into(),
+            ))
+        }
+        (Some(_), Some(t)) if t > pil::RISE_AT_S + 10.0 => {
+            return Err(Error::Pil(format!(
+                "the health monitor warned {:.2} s after the friction rise (more than 10 s)",
+                t - pil::RISE_AT_S
+            )))
+        }
+        _ => {}
+    }
     if a.inject_faults {
         let ok = r.fault_checks.len() == 3
             && r.fault_checks
