@@ -5,7 +5,9 @@
 //!
 //! `cargo run --release -p host-sim --example axis_suite -- [PER_EFFECT] [EFFECT_FREE] [--json F]`
 //! (defaults 10 and 50: the table) on held-out seeds; `--calibration` runs the seeds the
-//! significance rule was calibrated on instead. `--write DIR [--seed N]` writes one record per
+//! significance rule was calibrated on instead; `--no-breakaway` judges on sliding samples
+//! alone (the ablation of the breakaway evidence); `--only EFFECT` runs that effect's records
+//! (and the effect-free ones). `--write DIR [--seed N]` writes one record per
 //! effect to try.
 //!
 //! Per effect: the first significant candidate is the hidden effect (right), and with the
@@ -219,6 +221,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
     let opts = Options {
         add: effect.map(|e| vec![e.to_string()]).unwrap_or_default(),
         skip_final_ranking: true,
+        ignore_breakaway: std::env::args().any(|a| a == "--no-breakaway"),
         ..Default::default()
     };
     let d = match diagnose::diagnose(&rec, &name, &opts) {

@@ -76,6 +76,9 @@ pub struct Breakaway {
     pub trend: Option<DwellTrend>,
     /// Why `dwell_stiction` cannot be tested on this record, if it cannot.
     pub untestable: Option<String>,
+    /// The evidence is not used (an ablation: [`super::Options::ignore_breakaway`]).
+    #[serde(skip)]
+    pub ignored: bool,
 }
 
 /// Breakaway peaks against the rest time before them.
@@ -190,6 +193,16 @@ impl Breakaway {
             departures,
             trend,
             untestable,
+            ignored: false,
+        }
+    }
+
+    /// No evidence beyond sliding: candidates are judged on the sliding samples alone, as
+    /// before this module existed (for measuring what it changes).
+    pub fn ignored() -> Self {
+        Self {
+            ignored: true,
+            ..Self::default()
         }
     }
 

@@ -253,6 +253,9 @@ pub struct Options {
     /// Do not rank candidates after the last added effect (benchmarks that only need its
     /// error save the time).
     pub skip_final_ranking: bool,
+    /// Judge candidates on the sliding samples alone, without the breakaway evidence (an
+    /// ablation, to measure what that evidence changes).
+    pub ignore_breakaway: bool,
 }
 
 /// The whole diagnosis of a record.
@@ -810,7 +813,7 @@ fn judge(
     let dbic = sliding + peaks.unwrap_or(0.0);
     // dwell stiction acts only where the axis breaks away: the peaks must bear it out
     let caution = match info.kind {
-        EffectKind::DwellStiction => brk.untestable.clone().or_else(|| {
+        EffectKind::DwellStiction if !brk.ignored => brk.untestable.clone().or_else(|| {
             (peaks.unwrap_or(0.0) < breakaway::DWELL_MIN_PEAK_DBIC).then(|| {
                 format!(
                     "it does not explain the breakaway peaks better (peak evidence {:.1} < {})",
@@ -873,7 +876,11 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     let given_rel_err_pct = opts.given.map(|g| p.rel_err_pct(&g.predict(&p)));
 
     let tables = static_table::fit(&p, fixed_mass);
-    let brk = Breakaway::find(&p);
+    let brk = if opts.ignore_breakaway {
+        Breakaway::ignored()
+    } else {
+        Breakaway::find(&p)
+    };
     let base = baseline(&p, opts, n_eff);
     let mut stages = vec![stage(None, base, &p, &brk, fixed_mass, n_eff, true)];
     // the effects asked for, then (with `auto`) the first significant candidate each time
