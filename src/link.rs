@@ -248,6 +248,17 @@ pub enum Received<F> {
     BadChecksum,
 }
 
+impl<F> Received<F> {
+    /// The same outcome with the frame turned into another type.
+    pub fn map<G>(self, f: impl FnOnce(F) -> G) -> Received<G> {
+        match self {
+            Received::Frame(x) => Received::Frame(f(x)),
+            Received::BadChecksum => Received::BadChecksum,
+            Received::Pending => Received::Pending,
+        }
+    }
+}
+
 /// Byte-at-a-time frame receiver for frames of `N` bytes with sync word `sync`.
 #[derive(Clone, Debug)]
 pub struct Receiver<const N: usize> {
@@ -311,11 +322,7 @@ impl SensorReceiver {
 
     /// Takes one byte; a decoded sensor frame when it completes one.
     pub fn push_sensor(&mut self, byte: u8) -> Received<SensorFrame> {
-        match self.push(byte) {
-            Received::Frame(b) => Received::Frame(SensorFrame::decode(&b)),
-            Received::BadChecksum => Received::BadChecksum,
-            Received::Pending => Received::Pending,
-        }
+        self.push(byte).map(|b| SensorFrame::decode(&b))
     }
 }
 
@@ -327,11 +334,7 @@ impl ActuationReceiver {
 
     /// Takes one byte; a decoded actuation frame when it completes one.
     pub fn push_actuation(&mut self, byte: u8) -> Received<ActuationFrame> {
-        match self.push(byte) {
-            Received::Frame(b) => Received::Frame(ActuationFrame::decode(&b)),
-            Received::BadChecksum => Received::BadChecksum,
-            Received::Pending => Received::Pending,
-        }
+        self.push(byte).map(|b| ActuationFrame::decode(&b))
     }
 }
 

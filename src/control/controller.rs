@@ -613,13 +613,7 @@ impl Controller {
         let est = self.estimator;
         let measured_force =
             m.pressure_a_pa * c.piston_area_m2 - m.pressure_b_pa * c.annulus_area_m2;
-        let cond = Conditions {
-            position: est.position,
-            pressure_sum: m.pressure_a_pa + m.pressure_b_pa,
-            temperature: m
-                .temperature_c
-                .unwrap_or(self.model.effects.reference_conditions().temperature),
-        };
+        let cond = self.conditions(m);
         let v_ref_mean = match self.last_ref {
             Some(prev) => (r.position_m - prev) / h,
             None => r.velocity_m_per_s,
@@ -731,6 +725,18 @@ impl Controller {
         }
     }
 
+    /// The conditions the friction model sees this period: the estimated position, the
+    /// chamber pressures' sum, the oil temperature (the model's reference when not measured).
+    fn conditions(&self, m: &Measurements) -> Conditions<f32> {
+        Conditions {
+            position: self.estimator.position,
+            pressure_sum: m.pressure_a_pa + m.pressure_b_pa,
+            temperature: m
+                .temperature_c
+                .unwrap_or(self.model.effects.reference_conditions().temperature),
+        }
+    }
+
     /// Feeds the health monitor: while the axis slides steadily, the friction of the force
     /// balance against the identified model's (not the refined one's: the refinement follows
     /// the drift the monitor is there to report).
@@ -741,14 +747,8 @@ impl Controller {
         let sliding = est.velocity.abs() > c.health.min_speed_factor * vs
             && r.acceleration_m_per_s2.abs() < c.health.max_acceleration_m_per_s2;
         let model_n = if sliding {
-            let cond = Conditions {
-                position: est.position,
-                pressure_sum: m.pressure_a_pa + m.pressure_b_pa,
-                temperature: m
-                    .temperature_c
-                    .unwrap_or(c.model.effects.reference_conditions().temperature),
-            };
-            c.model.steady_state_force(est.velocity, &cond)
+            c.model
+                .steady_state_force(est.velocity, &self.conditions(m))
         } else {
             0.0
         };
