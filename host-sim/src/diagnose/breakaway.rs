@@ -138,13 +138,13 @@ impl Breakaway {
                 while i < seg.end && stuck(i) {
                     i += 1;
                 }
-                let end = i;
+                let rest_end = i;
                 // the rest's first samples at a segment start may be mid-rest: not counted
-                if end == seg.end || end - start < min_rest || start == seg.start {
+                if rest_end == seg.end || rest_end - start < min_rest || start == seg.start {
                     continue;
                 }
-                // the window's half-width both blurs the rest's end and the next rest's start
-                let end = (end + half).min(seg.end - 1);
+                // the centred window flags motion half a window early: the axis leaves here
+                let end = (rest_end + half).min(seg.end - 1);
                 let mut next = end;
                 while next < seg.end && !stuck(next) {
                     next += 1;
@@ -160,11 +160,11 @@ impl Breakaway {
                 if d * peak_n <= 0.0 {
                     continue;
                 }
-                let held = &p.force[start..end];
+                let held = &p.force[start..rest_end];
                 departures.push(Departure {
                     index: end,
                     time_s: p.t[end],
-                    rest_s: (end - start - half) as f64 * p.dt,
+                    rest_s: (rest_end - start) as f64 * p.dt,
                     direction: d,
                     peak_n,
                     holding_n: held.iter().sum::<f64>() / held.len() as f64,
@@ -340,6 +340,68 @@ mod tests {
                 }
             })
             .collect()
+    }
+
+    /// A record of moves at 20 mm/s between rests of known length, the axis creeping by 1 um
+    /// encoder counts while it rests; the force peaks at each departure by 50 N over its
+    /// 200 N sliding level (signed with the motion).
+    fn record(rests: &[f64]) -> (crate::record::Record, Vec<f64>) {
+        let dt = 1e-3;
+        let mut text = String::from("t,x,force\n");
+        let (mut t, mut x, mut dir) = (0.0f64, 0.0f64, 1.0f64);
+        let mut line = |t: f64, x: f64, f: f64| text.push_str(&format!("{t:.3},{x:.7},{f:.3}\n"));
+        let mut dirs = Vec::new();
+        for (k, &rest) in rests.iter().enumerate() {
+            // a move of 0.4 s, then the rest
+            for i in 0..400 {
+                let f = if i < 30 { 250.0 } else { 200.0 };
+                x += dir * 0.02 * dt;
+                line(t, x, dir * f);
+                t += dt;
+            }
+            let n = (rest / dt).round() as usize;
+            for i in 0..n {
+                // a 1 um creep now and then (an encoder count)
+                let creep = if i % 97 == 50 { 1e-6 } else { 0.0 };
+                x += creep;
+                line(t, (x * 1e6).round() * 1e-6, 0.3 * dir * 200.0);
+                t += dt;
+            }
+            if k % 2 == 1 {
+                dir = -dir;
+            }
+            dirs.push(dir);
+        }
+        for _ in 0..400 {
+            x += dir * 0.02 * dt;
+            line(t, x, dir * 200.0);
+            t += dt;
+        }
+        let rec = crate::record::Record::parse(&text, std::path::Path::new("r.csv")).unwrap();
+        (rec, dirs)
+    }
+
+    #[test]
+    fn finds_every_departure_with_its_rest_direction_and_peak() {
+        let rests = [0.1, 0.5, 0.05, 1.2, 0.3, 2.0, 0.08];
+        let (rec, dirs) = record(&rests);
+        let p = Prepared::new(&rec, "r.csv", Default::default()).unwrap();
+        let b = Breakaway::find(&p);
+        assert_eq!(b.departures.len(), rests.len(), "{:?}", b.departures);
+        for ((d, rest), dir) in b.departures.iter().zip(rests).zip(dirs) {
+            // the rest's length within the 20 ms averaging window and the filters' blur
+            assert!((d.rest_s - rest).abs() < 0.03, "{d:?} vs {rest}");
+            assert_eq!(d.direction, dir, "{d:?}");
+            // the departure's peak, past the 20 Hz band's smoothing, above the sliding level
+            assert!(d.direction * d.peak_n > 200.0, "{d:?}");
+        }
+        // rests from 0.05 to 2 s: dwell stiction can be tested
+        assert_eq!(b.untestable, None);
+        // a record with two rests cannot test it, and says why
+        let (rec, _) = record(&[0.5, 1.0]);
+        let p = Prepared::new(&rec, "r.csv", Default::default()).unwrap();
+        let b = Breakaway::find(&p);
+        assert!(b.untestable.unwrap().contains("needs 6"));
     }
 
     const RESTS: [f64; 12] = [
