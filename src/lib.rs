@@ -76,3 +76,4 @@ pub mod control;
 pub mod friction;
 pub mod identify;
 pub mod link;
+pub mod math;

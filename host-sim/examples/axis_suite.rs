@@ -39,7 +39,7 @@ struct Row {
     floor_pct: f64,
     /// error of the generator's true model with the hidden effect removed (its visibility) [%]
     without_effect_pct: f64,
-    /// every candidate of the baseline: (effect, dBIC, error with it [%], significant)
+    /// every candidate of the baseline, ranked: (effect, dBIC, error with it [%], detected)
     candidates: Vec<(String, f64, f64, bool)>,
     /// departures from rest the diagnosis found (the breakaway evidence)
     departures: usize,
@@ -180,10 +180,48 @@ fn main() {
         rows.len(),
         wall.elapsed().as_secs_f64()
     );
+    calibration_curve(&rows);
     if let Some(path) = json {
         std::fs::write(&path, serde_json::to_string_pretty(&rows).expect("json"))
             .expect("write json");
         println!("wrote {path}");
+    }
+}
+
+/// The decision rule's calibration curve: for each error cut, how many effect-free records get
+/// a significant effect and how many hidden effects are named first. The diagnosis's cut
+/// (`MIN_ERROR_CUT`) is chosen from this curve on the calibration seeds.
+fn calibration_curve(rows: &[Row]) {
+    // the first candidate, in ranked order, that is detected and cuts the error by `cut`
+    let first = |r: &Row, cut: f64| {
+        r.candidates
+            .iter()
+            .find(|c| c.3 && c.2 <= (1.0 - cut) * r.baseline_pct)
+            .map(|c| c.0.clone())
+    };
+    let ok: Vec<&Row> = rows.iter().filter(|r| r.error.is_none()).collect();
+    let none: Vec<&&Row> = ok.iter().filter(|r| r.hidden == "none").collect();
+    let with: Vec<&&Row> = ok.iter().filter(|r| r.hidden != "none").collect();
+    println!(
+        "\ncalibration curve (current cut {:.2}):\n{:>6} {:>18} {:>18}",
+        diagnose::MIN_ERROR_CUT,
+        "cut",
+        "false positives",
+        "effects right"
+    );
+    for cut in [0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.15, 0.20, 0.30] {
+        let fp = none.iter().filter(|r| first(r, cut).is_some()).count();
+        let right = with
+            .iter()
+            .filter(|r| first(r, cut).as_deref() == Some(r.hidden.as_str()))
+            .count();
+        println!(
+            "{cut:>6.2} {:>9} ({:>4.1} %) {:>9} ({:>4.1} %)",
+            fp,
+            pct(fp, none.len()),
+            right,
+            pct(right, with.len())
+        );
     }
 }
 
@@ -255,7 +293,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
                 c.kind.to_string(),
                 c.delta_bic.unwrap_or(f64::NAN),
                 c.rel_err_pct.unwrap_or(f64::NAN),
-                c.significant,
+                c.detected,
             )
         })
         .collect();

@@ -10,7 +10,7 @@ use super::observer::Observer;
 use super::position::{Cascade, CascadeConfig};
 use super::refine::{RefineConfig, Refiner};
 use crate::axis::AxisGeometry;
-use crate::friction::{Conditions, FrictionModel, LugreParams};
+use crate::friction::{Conditions, FrictionModel};
 
 /// Which compensation parts run (the benchmark's configurations).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -770,16 +770,8 @@ impl Controller {
         {
             return true;
         }
-        let p = self.model.params;
         let [fc, dfs, s2] = self.refiner.theta;
-        match LugreParams::new(
-            p.bristle_stiffness(),
-            p.bristle_damping(),
-            s2,
-            fc,
-            fc + dfs,
-            vs,
-        ) {
+        match self.model.params.with_levels(s2, fc, fc + dfs) {
             Ok(q) => {
                 self.model.params = q;
                 true

@@ -18,6 +18,8 @@
 //! stay as identified: they act only in microsecond bristle transients that 1 kHz data cannot
 //! resolve, so adapting them online would chase noise.
 
+use crate::math;
+
 /// Refinement settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RefineConfig {
@@ -55,6 +57,8 @@ pub struct Refiner {
     pub theta: [f32; 3],
     /// Identified values (the centre of the bounds).
     pub nominal: [f32; 3],
+    /// `(Fs - Fc) / Fc` of the identified values, held.
+    rho: f32,
     est: [f32; 2],
     p: [[f32; 2]; 2],
     y_f: f32,
@@ -73,6 +77,7 @@ impl Refiner {
         Self {
             theta: nominal,
             nominal,
+            rho: nominal[1] / nominal[0].max(1e-6),
             est,
             p,
             y_f: 0.0,
@@ -85,16 +90,12 @@ impl Refiner {
         *self = Self::new(self.nominal);
     }
 
-    fn rho(&self) -> f32 {
-        self.nominal[1] / self.nominal[0].max(1e-6)
-    }
-
     /// One sample: measured friction `y` [N], velocity [m/s], acceleration [m/s^2], `vs` [m/s].
     /// Returns true if the estimate was updated.
     pub fn update(&mut self, c: &RefineConfig, y: f32, v: f32, a: f32, vs: f32) -> bool {
         let d = if v >= 0.0 { 1.0 } else { -1.0 };
         let r = v / vs;
-        let phi = [d * (1.0 + self.rho() * libm::expf(-r * r)), v];
+        let phi = [d * (1.0 + self.rho * math::decay(r * r)), v];
         let s = c.smoothing;
         self.y_f += s * (y - self.y_f);
         for (f, p) in self.phi_f.iter_mut().zip(phi) {
@@ -137,7 +138,7 @@ impl Refiner {
         }
         if next.iter().flatten().all(|x| x.is_finite()) && self.est.iter().all(|x| x.is_finite()) {
             self.p = next;
-            self.theta = [self.est[0], self.rho() * self.est[0], self.est[1]];
+            self.theta = [self.est[0], self.rho * self.est[0], self.est[1]];
             true
         } else {
             self.reset();

@@ -23,7 +23,7 @@
 //! reference is 2.4 N there, 0.5 N on a velocity ramp through the Stribeck region and 0.16 N on
 //! slow reversals (test `lugre_numerics`).
 
-use num_traits::Float;
+use crate::math::{self, ModelFloat};
 
 /// Result of one exact step of the bristle equation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,14 +37,14 @@ pub struct BristleStep<T> {
 /// Exact zero-order-hold step of `dz/dt = v - sigma0 |v| z / g` over `dt` seconds.
 ///
 /// `g` is the Stribeck level [N] (clamped to a tiny positive value), `sigma0` [N/m].
-pub fn bristle_step<T: Float>(z: T, velocity: T, sigma0: T, g: T, dt: T) -> BristleStep<T> {
+pub fn bristle_step<T: ModelFloat>(z: T, velocity: T, sigma0: T, g: T, dt: T) -> BristleStep<T> {
     driven_bristle_step(z, velocity, velocity, sigma0, g, dt)
 }
 
 /// Exact zero-order-hold step of `dz/dt = u - sigma0 |v| z / g`: the bristle equation driven
 /// by `u` (the velocity itself in the model; velocity plus an error correction in an
 /// observer) with the decay set by `v`.
-pub fn driven_bristle_step<T: Float>(
+pub fn driven_bristle_step<T: ModelFloat>(
     z: T,
     drive: T,
     velocity: T,
@@ -55,7 +55,7 @@ pub fn driven_bristle_step<T: Float>(
     let g = g.max(T::min_positive_value());
     let rate = sigma0 * velocity.abs() / g; // a [1/s]
     let x = rate * dt;
-    let decay = (-x).exp();
+    let decay = math::decay(x);
     // phi(x) = (1 - e^-x) / x from the one exponential: one exp per step instead of exp and
     // exp_m1 (the MCU's tick runs two steps). The subtraction loses about eps / x; below the
     // switch the series 1 - x/2 + x^2/6 - x^3/24 (exact to x^4/120) takes over. The switch,
@@ -89,7 +89,7 @@ pub struct LugreState<T> {
     pub z: T,
 }
 
-impl<T: Float> LugreState<T> {
+impl<T: ModelFloat> LugreState<T> {
     /// A relaxed state (z = 0).
     pub fn new() -> Self {
         Self { z: T::zero() }

@@ -4,6 +4,7 @@
 use super::effects::{Conditions, Effects};
 use super::lugre::driven_bristle_step;
 use super::LugreParams;
+use crate::math::{self, ModelFloat};
 use num_traits::Float;
 
 /// Friction levels in force at the current conditions.
@@ -38,7 +39,7 @@ pub struct FrictionModel<T> {
     pub effects: Effects<T>,
 }
 
-impl<T: Float> FrictionModel<T> {
+impl<T: ModelFloat> FrictionModel<T> {
     /// The same model in another float type (the parameters validated again by
     /// [`LugreParams::cast`]).
     pub fn cast<U: Float>(&self) -> Result<FrictionModel<U>, crate::friction::ParamError> {
@@ -110,7 +111,7 @@ impl<T: Float> FrictionModel<T> {
             Some(s) => r.powf(s.exponent),
             None => r * r,
         };
-        l.coulomb + (l.static_ - l.coulomb) * (-shape).exp()
+        l.coulomb + (l.static_ - l.coulomb) * math::decay(shape)
     }
 
     /// Viscous force [N] for the given levels.

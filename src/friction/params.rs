@@ -144,43 +144,49 @@ impl<T: Float> LugreParams<T> {
         static_force: T,
         stribeck_velocity: T,
     ) -> Result<Self, ParamError> {
-        use ParamErrorKind::*;
         use ParamField::*;
-        let checks = [
+        check_fields(&[
             (BristleStiffness, bristle_stiffness, true),
             (BristleDamping, bristle_damping, false),
+            (StribeckVelocity, stribeck_velocity, true),
+        ])?;
+        Self {
+            bristle_stiffness,
+            bristle_damping,
+            viscous_coefficient: T::zero(),
+            coulomb_force: T::one(),
+            static_force: T::one(),
+            stribeck_velocity,
+        }
+        .with_levels(viscous_coefficient, coulomb_force, static_force)
+    }
+
+    /// The same set with new friction levels (sigma2, Fc, Fs), validated as in
+    /// [`LugreParams::new`]; the bristle and Stribeck parameters are already valid, so only the
+    /// levels are checked (the online refinement changes them every period).
+    pub fn with_levels(
+        &self,
+        viscous_coefficient: T,
+        coulomb_force: T,
+        static_force: T,
+    ) -> Result<Self, ParamError> {
+        use ParamField::*;
+        check_fields(&[
             (ViscousCoefficient, viscous_coefficient, false),
             (CoulombForce, coulomb_force, true),
             (StaticForce, static_force, true),
-            (StribeckVelocity, stribeck_velocity, true),
-        ];
-        for (field, value, strictly) in checks {
-            let kind = if !value.is_finite() {
-                Some(NotFinite)
-            } else if strictly && value <= T::zero() {
-                Some(NotPositive)
-            } else if value < T::zero() {
-                Some(Negative)
-            } else {
-                None
-            };
-            if let Some(kind) = kind {
-                return Err(ParamError { field, kind });
-            }
-        }
+        ])?;
         if static_force < coulomb_force {
             return Err(ParamError {
                 field: StaticForce,
-                kind: StaticBelowCoulomb,
+                kind: ParamErrorKind::StaticBelowCoulomb,
             });
         }
         Ok(Self {
-            bristle_stiffness,
-            bristle_damping,
             viscous_coefficient,
             coulomb_force,
             static_force,
-            stribeck_velocity,
+            ..*self
         })
     }
 
@@ -299,6 +305,27 @@ impl<T: Float> LugreParams<T> {
 }
 
 /// `sign(v)` with `sign(0) = 0` (friction at exact rest is not a sliding force).
+/// Each value finite, and positive (`true`) or not negative (`false`); the first that is not
+/// is the error.
+fn check_fields<T: Float>(checks: &[(ParamField, T, bool)]) -> Result<(), ParamError> {
+    use ParamErrorKind::*;
+    for &(field, value, strictly) in checks {
+        let kind = if !value.is_finite() {
+            Some(NotFinite)
+        } else if strictly && value <= T::zero() {
+            Some(NotPositive)
+        } else if value < T::zero() {
+            Some(Negative)
+        } else {
+            None
+        };
+        if let Some(kind) = kind {
+            return Err(ParamError { field, kind });
+        }
+    }
+    Ok(())
+}
+
 pub(crate) fn direction<T: Float>(velocity: T) -> T {
     if velocity > T::zero() {
         T::one()

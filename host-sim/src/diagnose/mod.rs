@@ -197,7 +197,10 @@ pub struct Candidate {
     /// Evidence from the breakaway peaks, included in `delta_bic` (see [`breakaway`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_delta_bic: Option<f64>,
-    /// Significant (see the module docs).
+    /// Detected: the evidence is strong (dBIC > 10, the effect's interval excludes "no effect",
+    /// no caution), whatever the size of its error cut.
+    pub detected: bool,
+    /// Significant: detected, and it cuts the error by at least [`MIN_ERROR_CUT`].
     pub significant: bool,
     /// Why it cannot be significant on this record although it was tested.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -689,6 +692,7 @@ fn score(
         rel_err_pct: None,
         delta_bic: None,
         peak_delta_bic: None,
+        detected: false,
         significant: false,
         caution: None,
         parameters: Vec::new(),
@@ -824,16 +828,15 @@ fn judge(
         }),
         _ => None,
     };
+    let detected = dbic > 10.0 && caution.is_none() && (linear_excludes || nonlinear_excludes_null);
     Candidate {
         kind: info.kind,
         meaning: info.meaning.into(),
         rel_err_pct: Some(fit.rel_err_pct),
         delta_bic: Some(dbic),
         peak_delta_bic: peaks,
-        significant: dbic > 10.0
-            && caution.is_none()
-            && (linear_excludes || nonlinear_excludes_null)
-            && fit.rel_err_pct <= (1.0 - MIN_ERROR_CUT) * current.rel_err_pct,
+        detected,
+        significant: detected && fit.rel_err_pct <= (1.0 - MIN_ERROR_CUT) * current.rel_err_pct,
         caution,
         parameters,
         skipped: None,
