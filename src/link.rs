@@ -8,6 +8,11 @@
 //! the sync word, and reports a frame or a checksum error; after garbage it resynchronises on
 //! the next sync word.
 //!
+//! Between sensor frames the host may send a [`SettingsFrame`]: new friction parameters that
+//! the MCU validates and applies between ticks (ramped, see
+//! [`crate::control::Controller::set_friction`]). It shares the sensor frame's first sync byte,
+//! so one receiver takes both.
+//!
 //! The same codec runs on the MCU and on the host, so the two sides cannot disagree on the
 //! layout.
 
@@ -20,12 +25,16 @@ const CRC: Crc<u16> = Crc::<u16>::new(&CRC_16_IBM_3740);
 pub const SENSOR_SYNC: [u8; 2] = [0xA5, 0x5A];
 /// Sync word of an actuation frame (MCU -> host).
 pub const ACTUATION_SYNC: [u8; 2] = [0x5A, 0xA5];
+/// Sync word of a settings frame (host -> MCU, between sensor frames).
+pub const SETTINGS_SYNC: [u8; 2] = [0xA5, 0xC3];
+/// Bytes of a settings frame.
+pub const SETTINGS_LEN: usize = 30;
 /// Sync word of the hello frame (MCU -> host, once at boot).
 pub const HELLO_SYNC: [u8; 2] = [0x5A, 0xC3];
 /// Bytes of the hello frame.
 pub const HELLO_LEN: usize = 34;
 /// Version of the frame layout (the hello carries it; the host refuses another).
-pub const PROTOCOL_VERSION: u8 = 1;
+pub const PROTOCOL_VERSION: u8 = 2;
 /// Bytes of a sensor frame.
 pub const SENSOR_LEN: usize = 36;
 /// Bytes of an actuation frame.
@@ -43,6 +52,18 @@ pub mod link_faults {
     pub const RECOVERING: u8 = 8;
 }
 
+/// Bits of [`ActuationFrame::status`].
+pub mod status {
+    /// The controller is in its safe state (valve at null).
+    pub const SAFE: u8 = 1;
+    /// The friction health monitor warns.
+    pub const HEALTH_WARNING: u8 = 2;
+    /// The last settings frame was accepted (its parameters are being ramped in or in use).
+    pub const SETTINGS_APPLIED: u8 = 4;
+    /// The last settings frame was refused (non-physical parameters); the model is unchanged.
+    pub const SETTINGS_REFUSED: u8 = 8;
+}
+
 /// MCU -> host at boot: what the firmware runs with.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct HelloFrame {
@@ -54,6 +75,24 @@ pub struct HelloFrame {
     pub mass_kg: f32,
     /// LuGre parameters: sigma0, sigma1, sigma2, Fc, Fs, vs (SI).
     pub lugre: [f32; 6],
+}
+
+/// Host -> MCU, between periods: friction parameters to run with from now on.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct SettingsFrame {
+    /// Identifies the settings (the answer's status bits refer to the last one received).
+    pub id: u16,
+    /// LuGre parameters: sigma0, sigma1, sigma2, Fc, Fs, vs (SI), as in [`HelloFrame`].
+    pub lugre: [f32; 6],
+}
+
+/// What the host sends: a sensor frame each period, settings now and then.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HostFrame {
+    /// Measurements and reference for one tick.
+    Sensor(SensorFrame),
+    /// New friction parameters.
+    Settings(SettingsFrame),
 }
 
 /// Host -> MCU, once per period.
@@ -82,7 +121,7 @@ pub struct ActuationFrame {
     pub faults: u16,
     /// Link fault bits ([`link_faults`]).
     pub link_faults: u8,
-    /// Bit 0: safe state; bit 1: friction health warning.
+    /// Bits: [`status`].
     pub status: u8,
     /// Instructions the controller tick took (SysTick under `-icount`).
     pub tick_instructions: u32,
@@ -155,6 +194,32 @@ impl HelloFrame {
     }
 }
 
+impl SettingsFrame {
+    /// The frame's bytes.
+    pub fn encode(&self) -> [u8; SETTINGS_LEN] {
+        let mut b = [0u8; SETTINGS_LEN];
+        let mut at = 0;
+        put(&mut b, &mut at, &SETTINGS_SYNC);
+        put(&mut b, &mut at, &self.id.to_le_bytes());
+        for v in self.lugre {
+            put(&mut b, &mut at, &v.to_le_bytes());
+        }
+        seal(&mut b);
+        b
+    }
+
+    fn decode(b: &[u8]) -> Self {
+        let mut lugre = [0.0; 6];
+        for (i, v) in lugre.iter_mut().enumerate() {
+            *v = f32_at(b, 4 + 4 * i);
+        }
+        Self {
+            id: u16_at(b, 2),
+            lugre,
+        }
+    }
+}
+
 impl SensorFrame {
     /// The frame's bytes.
     pub fn encode(&self) -> [u8; SENSOR_LEN] {
@@ -181,7 +246,7 @@ impl SensorFrame {
     }
 
     /// The frame of checked bytes (see [`Receiver`]).
-    fn decode(b: &[u8; SENSOR_LEN]) -> Self {
+    fn decode(b: &[u8]) -> Self {
         let temp = (b[32] & 1 == 1).then(|| f32_at(b, 16));
         Self {
             seq: u16_at(b, 2),
@@ -220,7 +285,7 @@ impl ActuationFrame {
         b
     }
 
-    fn decode(b: &[u8; ACTUATION_LEN]) -> Self {
+    fn decode(b: &[u8]) -> Self {
         Self {
             seq: u16_at(b, 2),
             valve_command: f32_at(b, 4),
@@ -259,22 +324,34 @@ impl<F> Received<F> {
     }
 }
 
-/// Byte-at-a-time frame receiver for frames of `N` bytes with sync word `sync`.
+/// Byte-at-a-time frame receiver: up to two frame kinds, each a sync word and a length (at
+/// most `N` bytes). Both kinds' sync words share their first byte, so a receiver hunting for
+/// either is never fooled into reading a frame of the other kind as garbage.
 #[derive(Clone, Debug)]
 pub struct Receiver<const N: usize> {
-    sync: [u8; 2],
+    kinds: [([u8; 2], usize); 2],
+    kind: usize,
     buf: [u8; N],
     len: usize,
 }
 
 impl<const N: usize> Receiver<N> {
-    /// A receiver hunting for `sync`.
+    /// A receiver hunting for `sync`, frames of `N` bytes.
     pub const fn new(sync: [u8; 2]) -> Self {
         Self {
-            sync,
+            kinds: [(sync, N), (sync, N)],
+            kind: 0,
             buf: [0; N],
             len: 0,
         }
+    }
+
+    /// Also accepts frames with `sync` (its first byte the same as the first kind's) of `len`
+    /// bytes (`<= N`); they are reported as kind 1.
+    pub const fn with_second_kind(mut self, sync: [u8; 2], len: usize) -> Self {
+        assert!(len <= N && len > 4 && sync[0] == self.kinds[0].0[0]);
+        self.kinds[1] = (sync, len);
+        self
     }
 
     /// Drops a partial frame (after a timeout: the next byte starts a new hunt).
@@ -282,47 +359,62 @@ impl<const N: usize> Receiver<N> {
         self.len = 0;
     }
 
-    /// Takes one byte; returns the checked frame bytes when it completes one.
-    pub fn push(&mut self, byte: u8) -> Received<[u8; N]> {
-        if self.len < 2 {
-            if byte == self.sync[self.len] {
-                self.buf[self.len] = byte;
-                self.len += 1;
-            } else {
-                // a first sync byte may start over
-                self.len = usize::from(byte == self.sync[0]);
+    /// Takes one byte; returns the frame's kind and its checked bytes (the first
+    /// `len` of the buffer) when it completes one.
+    pub fn push(&mut self, byte: u8) -> Received<(usize, [u8; N])> {
+        let first = self.kinds[0].0[0];
+        match self.len {
+            0 => {
+                self.len = usize::from(byte == first);
                 self.buf[0] = byte;
+                return Received::Pending;
             }
-            return Received::Pending;
+            1 => {
+                match self.kinds.iter().position(|(sync, _)| sync[1] == byte) {
+                    Some(k) => {
+                        self.kind = k;
+                        self.buf[1] = byte;
+                        self.len = 2;
+                    }
+                    // a first sync byte may start over
+                    None => self.len = usize::from(byte == first),
+                }
+                return Received::Pending;
+            }
+            _ => {}
         }
         self.buf[self.len] = byte;
         self.len += 1;
-        if self.len < N {
+        let want = self.kinds[self.kind].1;
+        if self.len < want {
             return Received::Pending;
         }
         self.len = 0;
-        if sealed(&self.buf) {
-            Received::Frame(self.buf)
+        if sealed(&self.buf[..want]) {
+            Received::Frame((self.kind, self.buf))
         } else {
             Received::BadChecksum
         }
     }
 }
 
-/// The MCU's receiver of sensor frames.
+/// The MCU's receiver of host frames (sensor and settings).
 pub type SensorReceiver = Receiver<SENSOR_LEN>;
 /// The host's receiver of actuation frames.
 pub type ActuationReceiver = Receiver<ACTUATION_LEN>;
 
 impl SensorReceiver {
-    /// A receiver of sensor frames.
+    /// A receiver of sensor and settings frames.
     pub const fn sensors() -> Self {
-        Self::new(SENSOR_SYNC)
+        Self::new(SENSOR_SYNC).with_second_kind(SETTINGS_SYNC, SETTINGS_LEN)
     }
 
-    /// Takes one byte; a decoded sensor frame when it completes one.
-    pub fn push_sensor(&mut self, byte: u8) -> Received<SensorFrame> {
-        self.push(byte).map(|b| SensorFrame::decode(&b))
+    /// Takes one byte; a decoded host frame when it completes one.
+    pub fn push_host(&mut self, byte: u8) -> Received<HostFrame> {
+        self.push(byte).map(|(kind, b)| match kind {
+            0 => HostFrame::Sensor(SensorFrame::decode(&b)),
+            _ => HostFrame::Settings(SettingsFrame::decode(&b)),
+        })
     }
 }
 
@@ -334,7 +426,7 @@ impl ActuationReceiver {
 
     /// Takes one byte; a decoded actuation frame when it completes one.
     pub fn push_actuation(&mut self, byte: u8) -> Received<ActuationFrame> {
-        self.push(byte).map(|b| ActuationFrame::decode(&b))
+        self.push(byte).map(|(_, b)| ActuationFrame::decode(&b))
     }
 }
 
@@ -359,13 +451,10 @@ mod tests {
         }
     }
 
-    fn feed_sensor(
-        rx: &mut SensorReceiver,
-        bytes: &[u8],
-    ) -> heapless::Vec<Received<SensorFrame>, 8> {
+    fn feed_sensor(rx: &mut SensorReceiver, bytes: &[u8]) -> heapless::Vec<Received<HostFrame>, 8> {
         let mut out = heapless::Vec::new();
         for &b in bytes {
-            let r = rx.push_sensor(b);
+            let r = rx.push_host(b);
             if r != Received::Pending {
                 let _ = out.push(r);
             }
@@ -379,7 +468,7 @@ mod tests {
         let mut rx = SensorReceiver::sensors();
         assert_eq!(
             feed_sensor(&mut rx, &s.encode()).as_slice(),
-            &[Received::Frame(s)]
+            &[Received::Frame(HostFrame::Sensor(s))]
         );
         let no_temp = SensorFrame {
             measurements: Measurements {
@@ -390,7 +479,7 @@ mod tests {
         };
         assert_eq!(
             feed_sensor(&mut rx, &no_temp.encode()).as_slice(),
-            &[Received::Frame(no_temp)]
+            &[Received::Frame(HostFrame::Sensor(no_temp))]
         );
         let a = ActuationFrame {
             seq: 7,
@@ -455,15 +544,50 @@ mod tests {
         stream.extend_from_slice(&s.encode()).unwrap();
         stream.extend_from_slice(&s.encode()).unwrap();
         let got = feed_sensor(&mut rx, &stream);
-        assert_eq!(got.as_slice(), &[Received::BadChecksum, Received::Frame(s)]);
+        assert_eq!(
+            got.as_slice(),
+            &[Received::BadChecksum, Received::Frame(HostFrame::Sensor(s))]
+        );
         // a reset (the MCU's stall timeout) drops a partial frame at once
         for &b in &s.encode()[..20] {
-            rx.push_sensor(b);
+            rx.push_host(b);
         }
         rx.reset();
         assert_eq!(
             feed_sensor(&mut rx, &s.encode()).as_slice(),
-            &[Received::Frame(s)]
+            &[Received::Frame(HostFrame::Sensor(s))]
+        );
+    }
+
+    #[test]
+    fn settings_and_sensor_frames_share_one_receiver() {
+        let s = sensor();
+        let set = SettingsFrame {
+            id: 3,
+            lugre: [3.9e9, 200.0, 48_900.0, 506.0, 632.0, 5e-3],
+        };
+        let mut rx = SensorReceiver::sensors();
+        let mut stream: heapless::Vec<u8, 160> = heapless::Vec::new();
+        stream.extend_from_slice(&s.encode()).unwrap();
+        stream.extend_from_slice(&set.encode()).unwrap();
+        stream.extend_from_slice(&s.encode()).unwrap();
+        assert_eq!(
+            feed_sensor(&mut rx, &stream).as_slice(),
+            &[
+                Received::Frame(HostFrame::Sensor(s)),
+                Received::Frame(HostFrame::Settings(set)),
+                Received::Frame(HostFrame::Sensor(s)),
+            ]
+        );
+        // a corrupted settings frame is a checksum error, and the next sensor frame gets through
+        let mut bad = set.encode();
+        bad[10] ^= 0x20;
+        stream.clear();
+        stream.extend_from_slice(&bad).unwrap();
+        stream.extend_from_slice(&s.encode()).unwrap();
+        assert_eq!(
+            feed_sensor(&mut rx, &stream).as_slice(),
+            &[Received::BadChecksum, Received::Frame(HostFrame::Sensor(s))]
         );
     }
 }

@@ -80,7 +80,11 @@ mod tests {
             let got = f64::from(x.model_exp());
             worst = worst.max(((got - exact) / exact).abs());
         }
-        let bound = if cfg!(feature = "micromath") { 1e-2 } else { 1e-6 };
+        let bound = if cfg!(feature = "micromath") {
+            1e-2
+        } else {
+            1e-6
+        };
         println!("f32 model_exp relative error over -40..0: {worst:.2e}");
         assert!(worst < bound, "relative error {worst}");
         // beyond the cut the skipped value is below f64's rounding against one

@@ -395,3 +395,67 @@ proptest! {
         }
     }
 }
+
+/// New friction parameters sent while the axis moves (a settings message, as the firmware
+/// gets one over the link) are ramped in: the valve command moves no faster than it does
+/// without the change, while the same change applied at once makes it jump. A refused set
+/// (Fs < Fc cannot be built; an implausible one fails `check_physical`) changes nothing.
+#[test]
+fn new_settings_are_ramped_in_without_a_valve_jump() {
+    use lugre_servo::friction::LugreParams;
+    let plant = PlantConfig::default();
+    let s = SensorConfig::realistic(2);
+    let cfg = controller_config(Features::FULL);
+    let p = cfg.model.params;
+    // the levels 25 % up: what a re-identification after wear would send
+    let new = LugreParams::new(
+        p.bristle_stiffness(),
+        p.bristle_damping(),
+        1.25 * p.viscous_coefficient(),
+        1.25 * p.coulomb_force(),
+        1.25 * p.static_force(),
+        p.stribeck_velocity(),
+    )
+    .unwrap();
+    // mid-move: the reference's velocity is at 70 % of its peak
+    let at = 5.6;
+    let run = |ramp: Option<u32>| {
+        let mut c = cfg;
+        c.settings_ramp_periods = ramp.unwrap_or(0);
+        track::run_changing(&plant, s, c, &low_speed_reference, 8.0, &mut |t, _, ctl| {
+            if ramp.is_some() && (t - at).abs() < 0.5e-3 {
+                ctl.set_friction(new).expect("a physical set");
+            }
+        })
+    };
+    // the largest change of the valve command from one period to the next around the switch
+    let jump = |r: &track::Run| {
+        let k = (at * 1e3).round() as usize;
+        r.valve_command[k - 5..k + 300]
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0.0f32, f32::max)
+    };
+    let (none, ramped, instant) = (run(None), run(Some(200)), run(Some(0)));
+    let (j0, jr, ji) = (jump(&none), jump(&ramped), jump(&instant));
+    println!(
+        "largest valve step around the switch: none {j0:.2e}, ramped {jr:.2e}, at once {ji:.2e}"
+    );
+    assert!(jr <= 1.5 * j0, "ramped {jr} vs unchanged {j0}");
+    // measured 3.1x: the test can see a jump
+    assert!(ji > 2.0 * j0, "at once {ji} vs unchanged {j0}");
+    assert_eq!(ramped.fault_ticks, 0);
+    // the new levels are in use after the ramp (the refinement adapts from them)
+    let fc = ramped.final_model.params.coulomb_force();
+    assert!(
+        (fc / new.coulomb_force() - 1.0).abs() < 0.1,
+        "Fc {fc} vs sent {}",
+        new.coulomb_force()
+    );
+    // a set outside the physical range is refused and the controller keeps its model
+    let mut ctl = Controller::new(cfg);
+    let silly = LugreParams::new(1.0, 0.0, 0.0, 1e-3, 2e-3, 1e-9).unwrap();
+    assert!(ctl.set_friction(silly).is_err());
+    assert_eq!(ctl.model().params, cfg.model.params);
+    assert!(!ctl.settings_ramping());
+}

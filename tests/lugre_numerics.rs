@@ -185,7 +185,11 @@ fn f32_tracks_f64_within_bound() {
     println!("max |F_f32 - F_f64| over 20 s of reversals: {worst:.4} N");
     // Measured 0.0002 N with libm's expf; 0.84 N with the `micromath` feature's exponential
     // (relative error 2.4e-3), the reason the firmware keeps libm.
-    let bound = if cfg!(feature = "micromath") { 1.0 } else { 0.005 };
+    let bound = if cfg!(feature = "micromath") {
+        1.0
+    } else {
+        0.005
+    };
     assert!(worst < bound, "f32 error {worst} N");
 }
 

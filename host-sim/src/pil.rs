@@ -17,10 +17,10 @@ use crate::plant::{Plant, PlantConfig, SensorConfig, Sensors};
 use crate::track;
 use lugre_servo::axis::AxisGeometry;
 use lugre_servo::control::{ControllerConfig, Features, Measurements, Reference};
-use lugre_servo::friction::FrictionModel;
+use lugre_servo::friction::{FrictionModel, LugreParams};
 use lugre_servo::link::{
-    link_faults, ActuationFrame, ActuationReceiver, HelloFrame, Received, SensorFrame, HELLO_LEN,
-    PROTOCOL_VERSION,
+    link_faults, status, ActuationFrame, ActuationReceiver, HelloFrame, Received, SensorFrame,
+    SettingsFrame, HELLO_LEN, PROTOCOL_VERSION,
 };
 use serde::Serialize;
 use std::io::{Read, Write};
@@ -51,6 +51,26 @@ pub struct Session {
     /// Raise the plant's friction levels (Fc, Fs, sigma2) by this fraction at
     /// [`RISE_AT_S`] (wear, contamination), in both runs: the health monitor must warn.
     pub friction_rise: Option<f64>,
+    /// Friction parameters sent to the firmware as a settings frame at [`SETTINGS_AT_S`]
+    /// (the host run gets them at the same period).
+    pub settings: Option<LugreParams<f32>>,
+}
+
+/// When `settings` are sent [s].
+pub const SETTINGS_AT_S: f64 = 5.0;
+
+/// What became of the settings sent, and how the valve moved around them.
+#[derive(Clone, Debug, Serialize)]
+pub struct SettingsCheck {
+    /// The firmware's answer: "applied", "refused" or "no answer".
+    pub status: String,
+    /// Largest change of the valve command from one period to the next in the 0.3 s after
+    /// the settings arrived [-].
+    pub valve_step_after: f32,
+    /// The same in the 0.3 s before [-].
+    pub valve_step_before: f32,
+    /// The same after, on the host run [-].
+    pub host_valve_step_after: f32,
 }
 
 /// When `friction_rise` steps the plant's friction up [s].
@@ -120,6 +140,9 @@ pub struct Report {
     /// The injected link faults and the firmware's answers (with --inject-faults).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub fault_checks: Vec<FaultCheck>,
+    /// The settings sent (with --send-params) and the firmware's answer.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settings: Option<SettingsCheck>,
     /// Wall time of the session [s].
     pub wall_s: f64,
 }
@@ -373,6 +396,7 @@ pub fn run(s: &Session) -> Result<Report> {
     let mut open: Option<(String, bool, u32)> = None;
     let at = |t: f64, when: f64| (t - when).abs() < 0.5 * dt;
     let mut seq: u16 = 0;
+    let mut valve: Vec<f32> = Vec::with_capacity(n);
     let bar = indicatif::ProgressBar::new(n as u64).with_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} periods in QEMU, {elapsed}")
             .expect("style"),
@@ -399,6 +423,22 @@ pub fn run(s: &Session) -> Result<Report> {
                 acceleration_m_per_s2: a as f32,
             },
         };
+        if let (Some(p), true) = (s.settings, at(t, SETTINGS_AT_S)) {
+            let set = SettingsFrame {
+                id: 1,
+                lugre: [
+                    p.bristle_stiffness(),
+                    p.bristle_damping(),
+                    p.viscous_coefficient(),
+                    p.coulomb_force(),
+                    p.static_force(),
+                    p.stribeck_velocity(),
+                ],
+            };
+            stream
+                .write_all(&set.encode())
+                .map_err(|e| pil(format!("sending settings to the firmware: {e}")))?;
+        }
         let mut bytes = frame.encode();
         let mut injected = None;
         if s.inject && at(t, Injection::CORRUPT_AT_S) {
@@ -430,7 +470,7 @@ pub fn run(s: &Session) -> Result<Report> {
             let flagged = reply.link_faults & bit != 0 && reply.valve_command == 0.0;
             open = Some((name.to_string(), flagged, 0));
         } else if let Some((name, flagged, since)) = open.take() {
-            if reply.status & 1 == 0 {
+            if reply.status & status::SAFE == 0 {
                 checks.push(FaultCheck {
                     fault: name,
                     flagged_with_valve_null: flagged,
@@ -448,10 +488,11 @@ pub fn run(s: &Session) -> Result<Report> {
         if reply.faults != 0 {
             fault_periods += 1;
         }
-        if reply.status & 2 != 0 && first_warning.is_none() {
+        if reply.status & status::HEALTH_WARNING != 0 && first_warning.is_none() {
             first_warning = Some(t);
         }
         last = reply;
+        valve.push(reply.valve_command);
         plant.advance(f64::from(reply.valve_command), dt);
         let (xr, _, _) = reference(t + dt);
         if t + dt > 0.5 {
@@ -476,8 +517,30 @@ pub fn run(s: &Session) -> Result<Report> {
         controller_config(s.model, s.mass_kg),
         &reference,
         duration,
-        &mut |t, plant| rise(t, plant),
+        &mut |t, plant, ctl| {
+            rise(t, plant);
+            if let (Some(p), true) = (s.settings, at(t, SETTINGS_AT_S)) {
+                // the firmware validated them the same way; a refusal shows in its answer
+                let _ = ctl.set_friction(p);
+            }
+        },
     );
+    let settings = s.settings.map(|_| {
+        let k = (SETTINGS_AT_S / dt).round() as usize;
+        SettingsCheck {
+            status: if last.status & status::SETTINGS_APPLIED != 0 {
+                "applied"
+            } else if last.status & status::SETTINGS_REFUSED != 0 {
+                "refused"
+            } else {
+                "no answer"
+            }
+            .into(),
+            valve_step_after: largest_step(&valve, k, k + 300),
+            valve_step_before: largest_step(&valve, k.saturating_sub(300), k),
+            host_valve_step_after: largest_step(&host.valve_command, k, k + 300),
+        }
+    });
     Ok(Report {
         scenario: s.scenario.clone(),
         rms_err_m: (sum_sq / count.max(1) as f64).sqrt(),
@@ -495,6 +558,17 @@ pub fn run(s: &Session) -> Result<Report> {
         first_health_warning_s: first_warning,
         host_first_health_warning_s: host.first_health_warning_s,
         fault_checks: checks,
+        settings,
         wall_s: wall.elapsed().as_secs_f64(),
     })
+}
+
+/// The largest change of `u` from one period to the next over periods `from..to` (clipped).
+fn largest_step(u: &[f32], from: usize, to: usize) -> f32 {
+    let to = to.min(u.len());
+    let from = from.saturating_sub(1).min(to);
+    u[from..to]
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .fold(0.0, f32::max)
 }

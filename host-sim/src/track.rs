@@ -41,6 +41,8 @@ pub struct Run {
     pub tracking: Tracking,
     /// Time [s] and error [m] per period.
     pub trace: Vec<(f64, f64)>,
+    /// The valve command per period [-].
+    pub valve_command: Vec<f32>,
     /// The controller's friction model at the end (refined parameters).
     pub final_model: FrictionModel<f32>,
     /// Periods that raised a fault flag.
@@ -65,19 +67,20 @@ pub fn run(
         ctrl,
         reference,
         duration,
-        &mut |_, _| {},
+        &mut |_, _, _| {},
     )
 }
 
-/// As [`run`], with `change(t, plant)` called before every period: a plant whose friction
-/// drifts during the run (wear, contamination) for the health monitor's tests.
+/// As [`run`], with `change(t, plant, controller)` called before every period: a plant whose
+/// friction drifts during the run (wear, contamination) for the health monitor's tests, or
+/// new settings sent to the controller.
 pub fn run_changing(
     plant_cfg: &PlantConfig,
     sensors: SensorConfig,
     ctrl: ControllerConfig,
     reference: &dyn Fn(f64) -> (f64, f64, f64),
     duration: f64,
-    change: &mut dyn FnMut(f64, &mut Plant),
+    change: &mut dyn FnMut(f64, &mut Plant, &mut Controller),
 ) -> Run {
     let dt = 1e-3;
     let (x0, _, _) = reference(0.0);
@@ -86,6 +89,7 @@ pub fn run_changing(
     let mut controller = Controller::new(ctrl);
     let n = (duration / dt).round() as usize;
     let mut trace = Vec::with_capacity(n);
+    let mut valve_command = Vec::with_capacity(n);
     let mut fault_ticks = 0;
     let mut reversal_err: f64 = 0.0;
     let mut last_v = 0.0f64;
@@ -93,7 +97,7 @@ pub fn run_changing(
     let mut first_health_warning_s = None;
     for k in 0..n {
         let t = k as f64 * dt;
-        change(t, &mut plant);
+        change(t, &mut plant, &mut controller);
         let m = sens.sample(&plant);
         let (x, v, a) = reference(t);
         let out = controller.tick(
@@ -118,6 +122,7 @@ pub fn run_changing(
                 eprintln!("t {t:.3} faults {:?}", out.faults);
             }
         }
+        valve_command.push(out.valve_command);
         plant.advance(out.valve_command as f64, dt);
         let (xr, vr, _) = reference(t + dt);
         let e = xr - plant.state.x;
@@ -149,6 +154,7 @@ pub fn run_changing(
             reversal_err_m: reversal_err,
         },
         trace,
+        valve_command,
         final_model: *controller.model(),
         fault_ticks,
         final_temperature_c: plant.state.temperature_c,

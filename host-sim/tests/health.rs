@@ -30,7 +30,7 @@ fn first_warning(model: FrictionModel<f32>, scale: &dyn Fn(f64) -> f64) -> Optio
         config(model),
         &drift_reference,
         60.0,
-        &mut |t, plant: &mut Plant| {
+        &mut |t, plant: &mut Plant, _| {
             plant.config.friction.params =
                 scale_friction_levels(&base, scale(t)).expect("scaled Table 2 is physical")
         },

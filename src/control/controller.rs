@@ -10,7 +10,7 @@ use super::observer::Observer;
 use super::position::{Cascade, CascadeConfig};
 use super::refine::{RefineConfig, Refiner};
 use crate::axis::AxisGeometry;
-use crate::friction::{Conditions, FrictionModel};
+use crate::friction::{Conditions, FrictionModel, LugreParams, ParamError};
 
 /// Which compensation parts run (the benchmark's configurations).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -120,6 +120,9 @@ pub struct ControllerConfig {
     pub health: HealthConfig,
     /// Control period [s].
     pub period_s: f32,
+    /// Periods over which new friction parameters ([`Controller::set_friction`]) are ramped
+    /// in, so the compensation and the valve command do not jump (0: at once).
+    pub settings_ramp_periods: u32,
 }
 
 /// The disturbance observer's cut-off by the tuning rule of [`super::dob`] [Hz].
@@ -171,6 +174,8 @@ impl ControllerConfig {
             supervisor: SupervisorConfig::default(),
             health: HealthConfig::default(),
             period_s: 1e-3,
+            // 0.2 s: a 20 % change of Fc (~100 N) becomes 0.5 N per period
+            settings_ramp_periods: 200,
         }
     }
 }
@@ -437,6 +442,41 @@ pub struct Controller {
     stuck_ticks: u32,
     last_position: f32,
     health: HealthMonitor,
+    ramp: Option<ParamRamp>,
+}
+
+/// New friction parameters being ramped in: linear in every parameter from the set in use to
+/// the new one (a convex combination of two valid sets is valid: Fs >= Fc holds along it).
+#[derive(Clone, Copy, Debug)]
+struct ParamRamp {
+    from: LugreParams<f32>,
+    to: LugreParams<f32>,
+    done: u32,
+    total: u32,
+}
+
+impl ParamRamp {
+    /// One period further; the parameters to use now.
+    fn advance(&mut self) -> LugreParams<f32> {
+        self.done = (self.done + 1).min(self.total);
+        let s = self.done as f32 / self.total.max(1) as f32;
+        let (a, b) = (&self.from, &self.to);
+        let mix = |x: f32, y: f32| x + s * (y - x);
+        LugreParams::new(
+            mix(a.bristle_stiffness(), b.bristle_stiffness()),
+            mix(a.bristle_damping(), b.bristle_damping()),
+            mix(a.viscous_coefficient(), b.viscous_coefficient()),
+            mix(a.coulomb_force(), b.coulomb_force()),
+            mix(a.static_force(), b.static_force()),
+            mix(a.stribeck_velocity(), b.stribeck_velocity()),
+        )
+        // rounding could put Fs a hair below Fc mid-ramp: then the target at once
+        .unwrap_or(self.to)
+    }
+
+    fn finished(&self) -> bool {
+        self.done >= self.total
+    }
 }
 
 impl Controller {
@@ -466,6 +506,7 @@ impl Controller {
             stuck_ticks: 0,
             last_position: 0.0,
             health: HealthMonitor::default(),
+            ramp: None,
             gains: Gains {
                 dob: DisturbanceObserver::gain(config.dob_cutoff_hz, config.period_s),
                 residual: DisturbanceObserver::gain(config.residual_cutoff_hz, config.period_s),
@@ -478,6 +519,42 @@ impl Controller {
     /// The model in use (with refined parameters).
     pub fn model(&self) -> &FrictionModel<f32> {
         &self.model
+    }
+
+    /// Runs with new identified friction parameters from now on (a settings message between
+    /// ticks). They are checked as a parameter file is (`check_physical`); a refused set
+    /// leaves the controller unchanged. The set becomes the identified model the refinement
+    /// and the health monitor refer to at once, and the model in use moves to it linearly
+    /// over `settings_ramp_periods` periods (the refinement pauses meanwhile), so the
+    /// compensation, and with it the valve command, does not jump.
+    pub fn set_friction(&mut self, params: LugreParams<f32>) -> Result<(), ParamError> {
+        params.check_physical()?;
+        self.config.model.params = params;
+        self.refiner = Refiner::new([
+            params.coulomb_force(),
+            params.static_force() - params.coulomb_force(),
+            params.viscous_coefficient(),
+        ]);
+        // its statistic was gathered against the old model
+        self.health = HealthMonitor::default();
+        let ramp = ParamRamp {
+            from: self.model.params,
+            to: params,
+            done: 0,
+            total: self.config.settings_ramp_periods,
+        };
+        if ramp.total == 0 {
+            self.model.params = params;
+            self.ramp = None;
+        } else {
+            self.ramp = Some(ramp);
+        }
+        Ok(())
+    }
+
+    /// True while new friction parameters are being ramped in.
+    pub fn settings_ramping(&self) -> bool {
+        self.ramp.is_some()
     }
 
     /// The safe-state machine's mode.
@@ -507,6 +584,13 @@ impl Controller {
         if !self.ready(m, r) {
             out.safe = true;
             return out;
+        }
+        // new settings move in by one period's step
+        if let Some(ramp) = &mut self.ramp {
+            self.model.params = ramp.advance();
+            if ramp.finished() {
+                self.ramp = None;
+            }
         }
         // 2. estimate
         self.estimator
@@ -541,7 +625,7 @@ impl Controller {
         }
         out.health_warning = self.health.warning();
         // 7. refinement, after the output: it adapts the model the next period uses
-        if c.features.refinement && !self.refine(measured_force) {
+        if c.features.refinement && self.ramp.is_none() && !self.refine(measured_force) {
             out.faults.insert(Faults::REFINEMENT_RESET);
         }
         out

@@ -14,6 +14,11 @@
 //!
 //! and after each, the loop holds the valve at null for [`RECOVERY_FRAMES`] good frames, then
 //! starts a fresh controller from where the axis is. The panic handler nulls the valve too.
+//!
+//! A [`lugre_servo::link::SettingsFrame`] between sensor frames carries new friction
+//! parameters: checked with the core's rules (`LugreParams::new`, `check_physical`) and, if
+//! physical, ramped in by the controller between ticks (`Controller::set_friction`); every
+//! answer's status bits then say whether the last settings were applied or refused.
 
 #![no_std]
 #![no_main]
@@ -23,8 +28,10 @@ use cortex_m_semihosting::{debug, hprintln};
 use lugre_servo::axis::AxisGeometry;
 use lugre_servo::control::controller::Mode;
 use lugre_servo::control::{Controller, ControllerConfig, Features};
+use lugre_servo::friction::LugreParams;
 use lugre_servo::link::{
-    link_faults, ActuationFrame, HelloFrame, Received, SensorReceiver, PROTOCOL_VERSION,
+    link_faults, status, ActuationFrame, HelloFrame, HostFrame, Received, SensorReceiver,
+    SettingsFrame, PROTOCOL_VERSION,
 };
 use lugre_servo_firmware::board::write_valve;
 use lugre_servo_firmware::cycles::{self, Cycles};
@@ -72,7 +79,7 @@ fn main() -> ! {
         moving_mass_kg: params::MOVING_MASS_KG as f64,
         ..AxisGeometry::SIMULATED
     };
-    let config = ControllerConfig::for_axis(&axis, params::model(), Features::FULL);
+    let mut config = ControllerConfig::for_axis(&axis, params::model(), Features::FULL);
     let mut ctrl = Controller::new(config);
     usart.write_all(
         &HelloFrame {
@@ -93,6 +100,7 @@ fn main() -> ! {
     let mut idle = 0u32;
     let mut last = cycles::now();
     let mut stalled = false;
+    let mut settings_status = 0u8;
     loop {
         let now = cycles::now();
         idle = idle.saturating_add(cycles::elapsed(last, now));
@@ -110,8 +118,20 @@ fn main() -> ! {
         let Some(byte) = usart.read() else {
             continue;
         };
-        let (seq, tick) = match rx.push_sensor(byte) {
+        let (seq, tick) = match rx.push_host(byte) {
             Received::Pending => continue,
+            Received::Frame(HostFrame::Settings(set)) => {
+                // between ticks; not answered (the host does not wait for it)
+                settings_status = match apply(&mut ctrl, &set) {
+                    Some(p) => {
+                        // a fresh controller after a link fault starts from them too
+                        config.model.params = p;
+                        status::SETTINGS_APPLIED
+                    }
+                    None => status::SETTINGS_REFUSED,
+                };
+                continue;
+            }
             Received::BadChecksum => {
                 bad += 1;
                 pending |= link_faults::BAD_CHECKSUM;
@@ -122,7 +142,7 @@ fn main() -> ! {
                 expected = Some(seq.wrapping_add(1));
                 (seq, None)
             }
-            Received::Frame(f) => {
+            Received::Frame(HostFrame::Sensor(f)) => {
                 if let Some(e) = expected {
                     if f.seq != e {
                         lost += u32::from(f.seq.wrapping_sub(e));
@@ -154,8 +174,12 @@ fn main() -> ! {
                 reply.friction_compensation_n = out.friction_compensation_n;
                 reply.faults = u16::from(out.faults.0);
                 reply.tick_instructions = cal.instructions(t0, t1);
-                reply.status =
-                    u8::from(ctrl.mode() != Mode::Running) | (u8::from(out.health_warning) << 1);
+                if ctrl.mode() != Mode::Running {
+                    reply.status |= status::SAFE;
+                }
+                if out.health_warning {
+                    reply.status |= status::HEALTH_WARNING;
+                }
                 reply.health_ratio = ctrl.health().ratio().unwrap_or(0.0);
                 // telemetry's share of the period: health events leave the queue here
                 while ctrl.pop_health_event().is_some() {}
@@ -167,17 +191,27 @@ fn main() -> ! {
                 if hold == 0 {
                     ctrl = Controller::new(config);
                 }
-                reply.status = 1;
+                reply.status = status::SAFE;
                 reply.link_faults |= link_faults::RECOVERING;
             }
             None => {
-                reply.status = 1;
+                reply.status = status::SAFE;
                 reply.link_faults |= link_faults::RECOVERING;
             }
         }
+        reply.status |= settings_status;
         reply.link_faults |= pending;
         pending = 0;
         usart.write_all(&reply.encode());
         last = cycles::now();
     }
+}
+
+/// Checks a settings frame's parameters with the core's rules and hands them to the
+/// controller; the parameters if they were applied.
+fn apply(ctrl: &mut Controller, set: &SettingsFrame) -> Option<LugreParams<f32>> {
+    let [s0, s1, s2, fc, fs, vs] = set.lugre;
+    let p = LugreParams::new(s0, s1, s2, fc, fs, vs).ok()?;
+    ctrl.set_friction(p).ok()?;
+    Some(p)
 }

@@ -28,6 +28,11 @@ pub struct Args {
     /// the firmware's health monitor warn.
     #[arg(long)]
     friction_rise: Option<f64>,
+    /// Send this parameter file's friction parameters to the firmware as a settings frame 5 s
+    /// into the run (the host run gets them at the same period): the firmware must apply them
+    /// and ramp them in.
+    #[arg(long)]
+    send_params: Option<PathBuf>,
     /// Sensor noise seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -49,6 +54,16 @@ pub fn run(a: &Args) -> Result<()> {
     let model = model
         .cast()
         .map_err(|_| Error::Pil(format!("{}: not representable in f32", a.params.display())))?;
+    let settings =
+        match &a.send_params {
+            Some(path) => {
+                let (_, m) = ParamFile::read(path)?;
+                Some(m.params.cast().map_err(|_| {
+                    Error::Pil(format!("{}: not representable in f32", path.display()))
+                })?)
+            }
+            None => None,
+        };
     let session = Session {
         elf: a.elf.clone(),
         qemu: a.qemu.clone(),
@@ -59,6 +74,7 @@ pub fn run(a: &Args) -> Result<()> {
         inject: a.inject_faults,
         seconds: a.seconds,
         friction_rise: a.friction_rise,
+        settings,
     };
     let r = pil::run(&session)?;
     println!(
@@ -95,6 +111,16 @@ pub fn run(a: &Args) -> Result<()> {
                 .map_or("never".into(), |p| format!("{p} periods"))
         );
     }
+    if let Some(c) = &r.settings {
+        println!(
+            "settings sent at {:.1} s: {}; largest valve step in the 0.3 s after {:.2e} (before {:.2e}; host run after {:.2e})",
+            pil::SETTINGS_AT_S,
+            c.status,
+            c.valve_step_after,
+            c.valve_step_before,
+            c.host_valve_step_after
+        );
+    }
     println!("({:.1} s)", r.wall_s);
     if let Some(path) = &a.json {
         super::write_json(path, &r)?;
@@ -118,6 +144,14 @@ pub fn run(a: &Args) -> Result<()> {
             )))
         }
         _ => {}
+    }
+    if let Some(c) = &r.settings {
+        if c.status != "applied" {
+            return Err(Error::Pil(format!(
+                "the firmware did not apply the settings ({})",
+                c.status
+            )));
+        }
     }
     if a.inject_faults {
         let ok = r.fault_checks.len() == 3
