@@ -74,13 +74,27 @@ fn main() {
             .iter()
             .enumerate()
         {
+            let mut apart = 0;
             for a in 0..levels.len() {
                 for b in a + 1..levels.len() {
                     let (ya, ha) = levels[a].interval95(name).unwrap_or_default();
                     let (yb, hb) = levels[b].interval95(name).unwrap_or_default();
                     pairs[j] += 1;
-                    overlap[j] += usize::from((ya - yb).abs() <= ha + hb);
+                    let ok = (ya - yb).abs() <= ha + hb;
+                    overlap[j] += usize::from(ok);
+                    apart += usize::from(!ok);
                 }
+            }
+            if apart > 0 {
+                // which reruns disagree: each run's value +- its 95 % half-width
+                let runs: Vec<String> = levels
+                    .iter()
+                    .map(|l| {
+                        let (y, h) = l.interval95(name).unwrap_or_default();
+                        format!("{y:.4} +- {h:.4}")
+                    })
+                    .collect();
+                println!("rig {r} {name}: {apart} pairs apart: {}", runs.join(", "));
             }
         }
     }

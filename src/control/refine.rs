@@ -19,6 +19,7 @@
 //! resolve, so adapting them online would chase noise.
 
 use crate::math;
+use nalgebra::{Matrix2, Vector2};
 
 /// Refinement settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -59,30 +60,34 @@ pub struct Refiner {
     pub nominal: [f32; 3],
     /// `(Fs - Fc) / Fc` of the identified values, held.
     rho: f32,
-    est: [f32; 2],
-    p: [[f32; 2]; 2],
+    /// `[Fc, sigma2]`: what the least squares estimates.
+    est: Vector2<f32>,
+    /// Its covariance.
+    p: Matrix2<f32>,
     y_f: f32,
-    phi_f: [f32; 2],
+    phi_f: Vector2<f32>,
 }
 
 impl Refiner {
     /// Starts at the identified values `[Fc, Fs - Fc, sigma2]`.
     pub fn new(nominal: [f32; 3]) -> Self {
-        let est = [nominal[0], nominal[2]];
-        let mut p = [[0.0; 2]; 2];
-        for (i, row) in p.iter_mut().enumerate() {
-            let s = est[i].abs().max(1.0);
-            row[i] = 1e-2 * s * s;
-        }
+        let est = Vector2::new(nominal[0], nominal[2]);
         Self {
             theta: nominal,
             nominal,
             rho: nominal[1] / nominal[0].max(1e-6),
             est,
-            p,
+            p: Self::initial_covariance(&est),
             y_f: 0.0,
-            phi_f: [0.0; 2],
+            phi_f: Vector2::zeros(),
         }
+    }
+
+    /// `diag((0.1 max(|est_i|, 1))^2)`: a 10 % prior standard deviation; also the cap of the
+    /// diagonal against wind-up.
+    fn initial_covariance(est: &Vector2<f32>) -> Matrix2<f32> {
+        let s = est.map(|e| 1e-2 * e.abs().max(1.0) * e.abs().max(1.0));
+        Matrix2::from_diagonal(&s)
     }
 
     /// Resets to the identified values.
@@ -95,48 +100,36 @@ impl Refiner {
     pub fn update(&mut self, c: &RefineConfig, y: f32, v: f32, a: f32, vs: f32) -> bool {
         let d = if v >= 0.0 { 1.0 } else { -1.0 };
         let r = v / vs;
-        let phi = [d * (1.0 + self.rho * math::decay(r * r)), v];
+        let phi = Vector2::new(d * (1.0 + self.rho * math::decay(r * r)), v);
         let s = c.smoothing;
         self.y_f += s * (y - self.y_f);
-        for (f, p) in self.phi_f.iter_mut().zip(phi) {
-            *f += s * (p - *f);
-        }
+        self.phi_f += (phi - self.phi_f) * s;
         let excited = v.abs() > c.min_speed && a.abs() < c.max_acceleration && y.is_finite();
         if !excited {
             return false;
         }
         let ph = self.phi_f;
-        let pp = [
-            self.p[0][0] * ph[0] + self.p[0][1] * ph[1],
-            self.p[1][0] * ph[0] + self.p[1][1] * ph[1],
-        ];
-        let denom = c.forgetting + ph[0] * pp[0] + ph[1] * pp[1];
+        let pp = self.p * ph;
+        let denom = c.forgetting + ph.dot(&pp);
         if !(denom.is_finite() && denom > 0.0) {
             self.reset();
             return false;
         }
-        let err = self.y_f - (ph[0] * self.est[0] + ph[1] * self.est[1]);
-        let nominal = [self.nominal[0], self.nominal[2]];
+        let err = self.y_f - ph.dot(&self.est);
+        let nominal = Vector2::new(self.nominal[0], self.nominal[2]);
         for i in 0..2 {
-            let step = (pp[i] / denom * err).clamp(
-                -c.max_step * nominal[i].abs(),
-                c.max_step * nominal[i].abs(),
-            );
+            let limit = c.max_step * nominal[i].abs();
+            let step = (pp[i] / denom * err).clamp(-limit, limit);
             self.est[i] =
                 (self.est[i] + step).clamp(c.bounds[0] * nominal[i], c.bounds[1] * nominal[i]);
         }
-        let mut next = [[0.0f32; 2]; 2];
-        for i in 0..2 {
-            for j in 0..2 {
-                next[i][j] = (self.p[i][j] - pp[i] * pp[j] / denom) / c.forgetting;
-            }
-        }
+        let mut next = (self.p - pp * pp.transpose() / denom) / c.forgetting;
         // covariance wind-up guard: cap the diagonal at its initial size
-        for (i, row) in next.iter_mut().enumerate() {
-            let s = nominal[i].abs().max(1.0);
-            row[i] = row[i].clamp(0.0, 1e-2 * s * s);
+        let cap = Self::initial_covariance(&nominal);
+        for i in 0..2 {
+            next[(i, i)] = next[(i, i)].clamp(0.0, cap[(i, i)]);
         }
-        if next.iter().flatten().all(|x| x.is_finite()) && self.est.iter().all(|x| x.is_finite()) {
+        if next.iter().all(|x| x.is_finite()) && self.est.iter().all(|x| x.is_finite()) {
             self.p = next;
             self.theta = [self.est[0], self.rho * self.est[0], self.est[1]];
             true
