@@ -164,6 +164,7 @@ pub fn record_levels(rec: &Record, name: &str, opts: &Options) -> Result<RecordL
             LEVELS.iter().map(|l| fit::value_of(&g.model, *l)).collect()
         })
         .collect();
+    let spread = profile_spread(&p, &f, opts, n_eff);
     let model: AxisModel = f.model;
     let levels = LEVELS
         .iter()
@@ -175,11 +176,17 @@ pub fn record_levels(rec: &Record, name: &str, opts: &Options) -> Result<RecordL
             let jackknife =
                 ((b - 1.0) / b * vals.iter().map(|v| (v - m).powi(2)).sum::<f64>()).sqrt();
             // never narrower than the least-squares interval (a block refit that does not move
-            // would otherwise claim a zero error)
+            // would otherwise claim a zero error), nor than the spread along the Stribeck
+            // velocity's profile
             let ls = f.estimate(*l).map_or(0.0, |e| e.std_error);
             let value = fit::value_of(&model, *l);
             let floor = 1e-9 * value.abs().max(1e-12);
-            (l.label().to_string(), value, jackknife.max(ls).max(floor))
+            let profile = spread[j] / half_width95(1.0);
+            (
+                l.label().to_string(),
+                value,
+                jackknife.max(ls).max(profile).max(floor),
+            )
         })
         .collect();
     let mut conditions = Vec::new();
@@ -223,6 +230,44 @@ fn fit_with_offset(p: &Prepared, opts: &Options, n_eff: f64) -> fit::Fit {
     } else {
         base
     }
+}
+
+/// How far the levels move along the Stribeck velocity's profile: the fit redone (linear
+/// parameters) at `vs` from a quarter to four times its value; every `vs` whose likelihood
+/// ratio against the best is within the 95 % region (`n_eff ln(RSS / RSS_min) <= 3.84`)
+/// counts, with its own least-squares interval. Returns, per level, the largest distance
+/// from the fit's value to the far end of those intervals.
+///
+/// Why: on a record at nearly one speed, Fc and sigma2 v share the sliding friction, and how
+/// they share it hangs on the Stribeck curve that the few ramps reveal. Reruns of one
+/// condition then land in different splits (sigma2 near 0 in one run, 150 N s/m in the next),
+/// while every jackknife replicate of one run lands in that run's split: the block jackknife
+/// alone gave intervals that reruns did not share.
+fn profile_spread(p: &Prepared, f: &fit::Fit, opts: &Options, n_eff: f64) -> Vec<f64> {
+    let params = f.model.friction.params;
+    let vs = params.stribeck_velocity();
+    let fits: Vec<fit::Fit> = (0..=8)
+        .into_par_iter()
+        .map(|k| {
+            let v = vs * 4f64.powf(f64::from(k) / 4.0 - 1.0);
+            let seed = fit::with_nonlinear(&f.model, v, params.bristle_stiffness());
+            fit::refit(&seed, p, opts.mass_kg, n_eff)
+        })
+        .collect();
+    let best = fits.iter().map(|g| g.rss).fold(f.rss, f64::min);
+    LEVELS
+        .iter()
+        .map(|l| {
+            let value = fit::value_of(&f.model, *l);
+            fits.iter()
+                .filter(|g| g.rss.is_finite() && n_eff * (g.rss / best).ln() <= 3.84)
+                .map(|g| {
+                    let se = g.estimate(*l).map_or(0.0, |e| e.std_error);
+                    (fit::value_of(&g.model, *l) - value).abs() + 1.96 * se
+                })
+                .fold(0.0, f64::max)
+        })
+        .collect()
 }
 
 /// Analyses records of one axis taken under different conditions.
