@@ -4,7 +4,8 @@
 //! not. Prints how often the pressure dependence is found when it is there and when it is
 //! not, and whether reruns of one condition agree within their intervals.
 //!
-//! `cargo run --release -p host-sim --example across_records -- [RIGS]`
+//! `cargo run --release -p host-sim --example across_records -- [RIGS] [RERUN_RIGS] [--verbose]`
+//! (defaults 20 and 10; `--verbose` prints every record's levels)
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;
@@ -26,10 +27,11 @@ fn rig_records(seal: &Seal, bars: &[f64], seed: u64) -> Vec<(String, Record)> {
 }
 
 fn main() {
-    let rigs: u64 = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(20);
+    let args: Vec<String> = std::env::args().collect();
+    let num = |i: usize, d: u64| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
+    let rigs = num(1, 20);
+    let rerun_rigs = num(2, 10);
+    let verbose = args.iter().any(|a| a == "--verbose");
     let wall = std::time::Instant::now();
     let bars = [1.0, 2.5, 4.0, 5.5, 7.0];
     let opts = Options::default();
@@ -53,6 +55,15 @@ fn main() {
         covered +=
             usize::from(t.ci_low <= seal.coulomb_per_bar && seal.coulomb_per_bar <= t.ci_high);
         slope_err.push(t.slope - seal.coulomb_per_bar);
+        if verbose {
+            for l in &a.records {
+                let (fc, h) = l.interval95("coulomb_force_n").unwrap_or_default();
+                println!(
+                    "  {}: {:?}, Fc {fc:.3} +- {h:.3} N, error {:.2} %",
+                    l.name, l.conditions, l.rel_err_pct
+                );
+            }
+        }
         println!(
             "rig {r:2} true {:.3} N/bar: {}",
             seal.coulomb_per_bar,
@@ -62,7 +73,7 @@ fn main() {
     // reruns: five runs of one condition, pairs whose 95 % intervals overlap
     let mut pairs = [0usize; 2];
     let mut overlap = [0usize; 2];
-    for r in 0..rigs.min(10) {
+    for r in 0..rerun_rigs {
         let mut rng = Rng::new(77 + r);
         let seal = Seal::random(&mut rng, true);
         let recs = rig_records(&seal, &[4.0; 5], 900 + r);

@@ -1,8 +1,9 @@
 //! Writes generated seal-rig records (see `tests/generators/rig.rs`) into a folder, to try
 //! `host-sim diagnose` on them by hand:
 //! `cargo run --release -p host-sim --example gen_rig -- DIR N` (N random rigs), or
-//! `... -- DIR series [SEED]` (one pressure-energised seal at 1, 2.5, 4, 5.5 and 7 bar, for
-//! `host-sim diagnose --data DIR --report R.html`).
+//! `... -- DIR series [SEED [RECORDS_SEED]]` (one pressure-energised seal at 1, 2.5, 4, 5.5
+//! and 7 bar, for `host-sim diagnose --data DIR --report R.html`; `across_records`' rig r is
+//! `series 31+r 500+r`).
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;
@@ -16,8 +17,9 @@ fn main() {
     std::fs::create_dir_all(&dir).expect("create the output folder");
     if args.get(2).map(String::as_str) == Some("series") {
         let seed: u64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(21);
+        let records_seed: u64 = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(seed);
         let seal = Seal::random(&mut Rng::new(seed), true);
-        for (name, text) in series(&seal, &[1.0, 2.5, 4.0, 5.5, 7.0], seed) {
+        for (name, text) in series(&seal, &[1.0, 2.5, 4.0, 5.5, 7.0], records_seed) {
             let path = dir.join(&name);
             std::fs::write(&path, text).expect("write the record");
             println!("{}", path.display());

@@ -305,8 +305,22 @@ pub fn stribeck_range(p: &Prepared) -> (f64, f64) {
 /// flexible candidates then "explained" (measured on effect-free independent records).
 pub const STRIBECK_TOP_FRACTION: f64 = 1.0 / 3.0;
 
-/// Search range of the bristle stiffness sigma0 [N/m]: from soft seals to stiff metal contacts.
+/// Search range of the bristle stiffness sigma0 [N/m]: from soft seals to stiff metal contacts
+/// (the lower end reaches further down on light rigs, see [`bristle_stiffness_range`]).
 pub const BRISTLE_STIFFNESS_RANGE: (f64, f64) = (1e5, 1e10);
+
+/// Longest pre-sliding `F / sigma0` a contact is allowed [m]: an O-ring on a light test rig
+/// deflects a few hundred micrometres before it slides.
+pub const MAX_PRESLIDING_M: f64 = 1e-3;
+
+/// The bristle stiffness's search range on this record [N/m]: [`BRISTLE_STIFFNESS_RANGE`],
+/// its lower end brought down to `max |F| / MAX_PRESLIDING_M` where that is lower. A light rig's
+/// seal (15 N, 150 um of pre-sliding: 1e5 N/m) sits at or below 1e5, and a fit held above it
+/// cannot follow the force's lag through a reversal; it read that lag as viscous friction.
+pub fn bristle_stiffness_range(p: &Prepared) -> (f64, f64) {
+    let (lo, hi) = BRISTLE_STIFFNESS_RANGE;
+    ((p.max_abs_force / MAX_PRESLIDING_M).clamp(1.0, lo), hi)
+}
 
 /// Prior pre-sliding length `Fs / sigma0` [m], used when the record does not determine sigma0.
 pub const PRIOR_PRESLIDING_M: f64 = 10e-6;
@@ -345,7 +359,7 @@ impl Nonlinear {
     fn range(self, p: &Prepared) -> (f64, f64) {
         match self {
             Nonlinear::StribeckVelocity => stribeck_range(p),
-            Nonlinear::BristleStiffness => BRISTLE_STIFFNESS_RANGE,
+            Nonlinear::BristleStiffness => bristle_stiffness_range(p),
         }
     }
     fn prior(self, m: &AxisModel, p: &Prepared) -> f64 {
@@ -464,7 +478,7 @@ pub fn static_seed(p: &Prepared, fixed_mass: Option<f64>) -> AxisModel {
         mass_kg: table.mass_kg.max(0.0),
         friction: FrictionModel::plain(
             LugreParams::new(
-                (fc / 1e-6).clamp(BRISTLE_STIFFNESS_RANGE.0, BRISTLE_STIFFNESS_RANGE.1),
+                (fc / 1e-6).clamp(bristle_stiffness_range(p).0, bristle_stiffness_range(p).1),
                 0.0,
                 table.viscous_forward_n_s_per_m.max(0.0),
                 fc,
