@@ -12,6 +12,7 @@
 pub mod board;
 pub mod cycles;
 pub mod plant;
+pub mod timer;
 pub mod usart;
 
 /// The friction model and mass of the parameter file (see build.rs: `LUGRE_PARAMS`).

@@ -1,5 +1,5 @@
-//! USART1 as the processor-in-the-loop link, polled (one byte in flight each way is all the link
-//! needs at one frame per period). QEMU's `netduinoplus2` connects USART1 to its first
+//! USART1 as the processor-in-the-loop link: its receive interrupt (RXNE) starts the control
+//! period when a frame completes; transmission is polled (one frame per period). QEMU's `netduinoplus2` connects USART1 to its first
 //! `-serial` backend; on a board it is PA9/PA10 at any baud rate the host side matches.
 //!
 //! The clock is enabled in RCC (a no-op in QEMU, which does not model RCC) and the baud rate
@@ -14,12 +14,19 @@ pub struct Usart {
 }
 
 impl Usart {
-    /// Enables USART1 (transmitter and receiver, 8N1).
+    /// Enables USART1 (transmitter and receiver, 8N1) with its receive interrupt.
     pub fn new(usart: USART1, rcc: &RCC) -> Self {
         rcc.apb2enr.modify(|_, w| w.usart1en().enabled());
-        usart
-            .cr1
-            .write(|w| w.ue().enabled().te().enabled().re().enabled());
+        usart.cr1.write(|w| {
+            w.ue()
+                .enabled()
+                .te()
+                .enabled()
+                .re()
+                .enabled()
+                .rxneie()
+                .enabled()
+        });
         Self { usart }
     }
 
