@@ -12,6 +12,7 @@
 pub mod board;
 pub mod cycles;
 pub mod plant;
+pub mod telemetry;
 pub mod timer;
 pub mod usart;
 

@@ -176,17 +176,7 @@ mod app {
     /// Friction health events, at the lowest priority.
     #[task(priority = 1)]
     async fn telemetry(_: telemetry::Context, ev: HealthEvent) {
-        // integers: float formatting would cost ~20 KB of flash
-        let (what, ratio, tick) = match ev {
-            HealthEvent::Warning { ratio, tick } => ("warning", ratio, tick),
-            HealthEvent::Cleared { ratio, tick } => ("cleared", ratio, tick),
-        };
-        hprintln!(
-            "health {} at period {}: friction {} per mille of the identified model",
-            what,
-            tick,
-            (ratio * 1000.0) as i32
-        );
+        lugre_servo_firmware::telemetry::health(ev);
     }
 
     /// The figures, once the run is over; the exit status says whether the axis tracked.

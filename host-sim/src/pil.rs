@@ -357,15 +357,7 @@ pub fn run(s: &Session) -> Result<Report> {
     let (qemu, mut stream) = start(s)?;
     let hello = read_hello(&mut stream)?;
 
-    let p = &s.model.params;
-    let expected = [
-        p.bristle_stiffness(),
-        p.bristle_damping(),
-        p.viscous_coefficient(),
-        p.coulomb_force(),
-        p.static_force(),
-        p.stribeck_velocity(),
-    ];
+    let expected = s.model.params.to_array();
     let params_from_file =
         hello.flags & 1 == 1 && hello.lugre == expected && hello.mass_kg == s.mass_kg as f32;
 
@@ -426,14 +418,7 @@ pub fn run(s: &Session) -> Result<Report> {
         if let (Some(p), true) = (s.settings, at(t, SETTINGS_AT_S)) {
             let set = SettingsFrame {
                 id: 1,
-                lugre: [
-                    p.bristle_stiffness(),
-                    p.bristle_damping(),
-                    p.viscous_coefficient(),
-                    p.coulomb_force(),
-                    p.static_force(),
-                    p.stribeck_velocity(),
-                ],
+                lugre: p.to_array(),
             };
             stream
                 .write_all(&set.encode())

@@ -190,6 +190,19 @@ impl<T: Float> LugreParams<T> {
         })
     }
 
+    /// The six values in the order of the link frames and Table 2:
+    /// `[sigma0, sigma1, sigma2, Fc, Fs, vs]`.
+    pub fn to_array(&self) -> [T; 6] {
+        [
+            self.bristle_stiffness,
+            self.bristle_damping,
+            self.viscous_coefficient,
+            self.coulomb_force,
+            self.static_force,
+            self.stribeck_velocity,
+        ]
+    }
+
     /// The paper's Table 2 (Liao et al. 2023): sigma0 = 3.9e9 N/m, sigma1 = 200 N s/m,
     /// sigma2 = 48 900 N s/m, Fc = 506 N, Fs = 632 N, vs = 0.005 m/s.
     pub fn table2() -> Self {

@@ -66,7 +66,6 @@ const TIMER_CLOCK_HZ: u32 = 84_000_000;
 #[rtic::app(device = stm32f4::stm32f405, peripherals = true, dispatchers = [EXTI0])]
 mod app {
     use super::{apply, RECOVERY_FRAMES, STALL_MS, TIMER_CLOCK_HZ};
-    use cortex_m_semihosting::hprintln;
     use lugre_servo::axis::AxisGeometry;
     use lugre_servo::control::controller::Mode;
     use lugre_servo::control::health::HealthEvent;
@@ -288,16 +287,6 @@ mod app {
     /// link).
     #[task(priority = 1)]
     async fn telemetry(_: telemetry::Context, ev: HealthEvent) {
-        // integers: float formatting would cost ~20 KB of flash
-        let (what, ratio, tick) = match ev {
-            HealthEvent::Warning { ratio, tick } => ("warning", ratio, tick),
-            HealthEvent::Cleared { ratio, tick } => ("cleared", ratio, tick),
-        };
-        hprintln!(
-            "health {} at period {}: friction {} per mille of the identified model",
-            what,
-            tick,
-            (ratio * 1000.0) as i32
-        );
+        lugre_servo_firmware::telemetry::health(ev);
     }
 }
