@@ -2,13 +2,11 @@
 //! nothing else. The control loop in `main.rs` talks only to this trait, so the same loop runs
 //! against the QEMU board here and against a real board's peripherals.
 //!
-//! A real STM32F405 servo board would implement it with (typical choices, documented, not
-//! built here): the encoder on TIM2 in quadrature mode (PA0/PA1, 32-bit counter, 0.1 um per
-//! count); the two pressure transducers on ADC1 channels 10 and 11 (PC0/PC1, 4..20 mA over a
-//! shunt, converted at the start of each period by the timer's TRGO); the valve on DAC channel 1
-//! (PA4) through a +-10 V / +-10 mA valve amplifier, null = mid-scale; and the 1 kHz period from
-//! TIM6's update interrupt. QEMU's `netduinoplus2` has no DAC and no GPIO, so the QEMU board
-//! keeps the valve command in memory and closes the loop through an on-target plant model.
+//! Two implementations: [`crate::stm32_board::Stm32Board`], a real STM32F405 servo board
+//! (encoder on TIM5, pressures on ADC1, valve on the DAC; the control period from TIM2's
+//! interrupt; see that module for pins and scaling), and [`QemuBoard`] here. QEMU's
+//! `netduinoplus2` has no DAC and no GPIO, so the QEMU board keeps the valve command in memory
+//! and closes the loop through an on-target plant model.
 
 use lugre_servo::control::Measurements;
 

@@ -8,10 +8,12 @@
 //!   host being the clock.
 
 #![no_std]
+#![deny(unsafe_code)]
 
 pub mod board;
 pub mod cycles;
 pub mod plant;
+pub mod stm32_board;
 pub mod telemetry;
 pub mod timer;
 pub mod usart;

@@ -1,0 +1,115 @@
+//! The firmware of a servo board: the controller at 1 kHz on the board's peripherals.
+//!
+//! The same RTIC shape as the self-test: TIM2's update interrupt runs the control period at
+//! the top priority (sample the encoder and the pressures, tick, command the valve, through
+//! [`Stm32Board`]); friction health events go to a software task at the lowest priority. The
+//! model is the parameter file's (build time). Built without the `qemu` option, for the
+//! board's clock tree; not run in CI (QEMU models neither the encoder mode nor the DAC).
+//! Settings at run time arrive as on the PIL link ([`lugre_servo::link::SettingsFrame`]) on a
+//! board's serial port; that path is exercised by the PIL firmware.
+
+#![no_std]
+#![no_main]
+
+#[cfg(feature = "qemu")]
+compile_error!(
+    "the board binary is built for the board's clock tree: --no-default-features --features board"
+);
+
+use lugre_servo_firmware::stm32_board::null_valve_from_panic;
+
+#[cfg(feature = "defmt")]
+use defmt_rtt as _;
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    // the safe state first: the DAC to the valve's null
+    null_valve_from_panic();
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// TIM2's clock on the board [Hz]: APB1 x2 at a 168 MHz core clock.
+const TIMER_CLOCK_HZ: u32 = 84_000_000;
+/// Where the axis is at power-up [m] (a homing routine would set it).
+const ORIGIN_M: f32 = 0.25;
+
+#[rtic::app(device = stm32f4::stm32f405, peripherals = true, dispatchers = [EXTI0])]
+mod app {
+    use super::{ORIGIN_M, TIMER_CLOCK_HZ};
+    use lugre_servo::axis::AxisGeometry;
+    use lugre_servo::control::health::HealthEvent;
+    use lugre_servo::control::{Controller, ControllerConfig, Features, Reference};
+    use lugre_servo_firmware::board::Board;
+    use lugre_servo_firmware::params;
+    use lugre_servo_firmware::stm32_board::Stm32Board;
+    use lugre_servo_firmware::timer::PeriodTimer;
+
+    #[shared]
+    struct Shared {}
+
+    #[local]
+    struct Local {
+        ctrl: Controller,
+        board: Stm32Board,
+        timer: PeriodTimer,
+    }
+
+    #[init]
+    fn init(cx: init::Context) -> (Shared, Local) {
+        let d = cx.device;
+        let board = Stm32Board::new(&d.RCC, d.GPIOA, d.GPIOC, d.TIM5, d.ADC1, d.DAC, ORIGIN_M);
+        let axis = AxisGeometry {
+            moving_mass_kg: params::MOVING_MASS_KG as f64,
+            ..AxisGeometry::SIMULATED
+        };
+        let config = ControllerConfig::for_axis(&axis, params::model(), Features::FULL);
+        let timer = PeriodTimer::start(d.TIM2, &d.RCC, TIMER_CLOCK_HZ, 1000);
+        (
+            Shared {},
+            Local {
+                ctrl: Controller::new(config),
+                board,
+                timer,
+            },
+        )
+    }
+
+    #[idle]
+    fn idle(_: idle::Context) -> ! {
+        loop {
+            cortex_m::asm::wfi();
+        }
+    }
+
+    /// The control period, at the top priority. The reference holds the axis where it is
+    /// (a setpoint generator or a motion link would feed it).
+    #[task(binds = TIM2, priority = 3, local = [ctrl, board, timer])]
+    fn period(cx: period::Context) {
+        let l = cx.local;
+        l.timer.acknowledge();
+        let m = l.board.sample();
+        let r = Reference {
+            position_m: ORIGIN_M,
+            velocity_m_per_s: 0.0,
+            acceleration_m_per_s2: 0.0,
+        };
+        let out = l.ctrl.tick(&m, &r);
+        if out.safe {
+            l.board.null_valve();
+        } else {
+            l.board.command_valve(out.valve_command);
+        }
+        if let Some(ev) = l.ctrl.pop_health_event() {
+            let _ = telemetry::spawn(ev);
+        }
+    }
+
+    /// Friction health events, at the lowest priority.
+    #[task(priority = 1)]
+    async fn telemetry(_: telemetry::Context, _ev: HealthEvent) {
+        #[cfg(feature = "defmt")]
+        defmt::warn!("friction health: {}", defmt::Debug2Format(&_ev));
+    }
+}
