@@ -142,6 +142,11 @@ fn f32_at(b: &[u8], at: usize) -> f32 {
     f32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
 }
 
+/// The six LuGre parameters from `at` on (hello and settings frames carry them alike).
+fn lugre_at(b: &[u8], at: usize) -> [f32; 6] {
+    core::array::from_fn(|i| f32_at(b, at + 4 * i))
+}
+
 fn u32_at(b: &[u8], at: usize) -> u32 {
     u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
 }
@@ -181,15 +186,11 @@ impl HelloFrame {
         if b[..2] != HELLO_SYNC || !sealed(b) {
             return None;
         }
-        let mut lugre = [0.0; 6];
-        for (i, v) in lugre.iter_mut().enumerate() {
-            *v = f32_at(b, 8 + 4 * i);
-        }
         Some(Self {
             version: b[2],
             flags: b[3],
             mass_kg: f32_at(b, 4),
-            lugre,
+            lugre: lugre_at(b, 8),
         })
     }
 }
@@ -209,13 +210,9 @@ impl SettingsFrame {
     }
 
     fn decode(b: &[u8]) -> Self {
-        let mut lugre = [0.0; 6];
-        for (i, v) in lugre.iter_mut().enumerate() {
-            *v = f32_at(b, 4 + 4 * i);
-        }
         Self {
             id: u16_at(b, 2),
-            lugre,
+            lugre: lugre_at(b, 4),
         }
     }
 }

@@ -408,15 +408,13 @@ fn new_settings_are_ramped_in_without_a_valve_jump() {
     let cfg = controller_config(Features::FULL);
     let p = cfg.model.params;
     // the levels 25 % up: what a re-identification after wear would send
-    let new = LugreParams::new(
-        p.bristle_stiffness(),
-        p.bristle_damping(),
-        1.25 * p.viscous_coefficient(),
-        1.25 * p.coulomb_force(),
-        1.25 * p.static_force(),
-        p.stribeck_velocity(),
-    )
-    .unwrap();
+    let new = p
+        .with_levels(
+            1.25 * p.viscous_coefficient(),
+            1.25 * p.coulomb_force(),
+            1.25 * p.static_force(),
+        )
+        .unwrap();
     // mid-move: the reference's velocity is at 70 % of its peak
     let at = 5.6;
     let run = |ramp: Option<u32>| {
@@ -431,10 +429,7 @@ fn new_settings_are_ramped_in_without_a_valve_jump() {
     // the largest change of the valve command from one period to the next around the switch
     let jump = |r: &track::Run| {
         let k = (at * 1e3).round() as usize;
-        r.valve_command[k - 5..k + 300]
-            .windows(2)
-            .map(|w| (w[1] - w[0]).abs())
-            .fold(0.0f32, f32::max)
+        track::largest_step(&r.valve_command, k - 4, k + 300)
     };
     let (none, ramped, instant) = (run(None), run(Some(200)), run(Some(0)));
     let (j0, jr, ji) = (jump(&none), jump(&ramped), jump(&instant));

@@ -6,6 +6,8 @@
 //! - `pil` (`src/bin/pil.rs`): processor-in-the-loop. The controller closes the loop around
 //!   `host-sim`'s hydraulic plant over USART1 ([`usart`], frames of `lugre_servo::link`), the
 //!   host being the clock.
+//! - `board` (`src/bin/board.rs`): a servo board's firmware on the real peripherals
+//!   ([`stm32_board`]), built without the `qemu` option.
 
 #![no_std]
 #![deny(unsafe_code)]
@@ -21,4 +23,19 @@ pub mod usart;
 /// The friction model and mass of the parameter file (see build.rs: `LUGRE_PARAMS`).
 pub mod params {
     include!(concat!(env!("OUT_DIR"), "/params.rs"));
+}
+
+/// The controller's settings every binary runs with: the parameter file's model and moving
+/// mass on the simulated axis's geometry, full compensation.
+pub fn controller_config() -> lugre_servo::control::ControllerConfig {
+    use lugre_servo::axis::AxisGeometry;
+    let axis = AxisGeometry {
+        moving_mass_kg: params::MOVING_MASS_KG as f64,
+        ..AxisGeometry::SIMULATED
+    };
+    lugre_servo::control::ControllerConfig::for_axis(
+        &axis,
+        params::model(),
+        lugre_servo::control::Features::FULL,
+    )
 }

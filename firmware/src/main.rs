@@ -50,20 +50,13 @@ pub struct Stats {
 
 /// Periods of the run (4 s at 1 kHz).
 const PERIODS: u32 = 4000;
-/// TIM2's clock [Hz]. On a board APB1 x2 at a 168 MHz core clock; QEMU's timer model counts a
-/// fixed 1 GHz whatever RCC says (the `qemu` build option, on by default).
-#[cfg(feature = "qemu")]
-const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
-#[cfg(not(feature = "qemu"))]
-const TIMER_CLOCK_HZ: u32 = 84_000_000;
 
 #[rtic::app(device = stm32f4::stm32f405, peripherals = true, dispatchers = [EXTI0])]
 mod app {
-    use super::{Stats, PERIODS, TIMER_CLOCK_HZ};
+    use super::{Stats, PERIODS};
     use cortex_m_semihosting::{debug, hprintln};
-    use lugre_servo::axis::AxisGeometry;
     use lugre_servo::control::health::HealthEvent;
-    use lugre_servo::control::{Controller, ControllerConfig, Features, Reference};
+    use lugre_servo::control::{Controller, Reference};
     use lugre_servo_firmware::board::{Board, QemuBoard};
     use lugre_servo_firmware::cycles::{self, Cycles};
     use lugre_servo_firmware::params;
@@ -87,13 +80,9 @@ mod app {
         let mut core = cx.core;
         let cal = Cycles::calibrate(&mut core.SYST);
         // the identified model from the parameter file, on the simulated axis's geometry
-        let axis = AxisGeometry {
-            moving_mass_kg: params::MOVING_MASS_KG as f64,
-            ..AxisGeometry::SIMULATED
-        };
-        let config = ControllerConfig::for_axis(&axis, params::model(), Features::FULL);
+        let config = lugre_servo_firmware::controller_config();
         let board = QemuBoard::new(0.25);
-        let timer = PeriodTimer::start(cx.device.TIM2, &cx.device.RCC, TIMER_CLOCK_HZ, 1000);
+        let timer = PeriodTimer::start(cx.device.TIM2, &cx.device.RCC, 1000);
         (
             Shared {},
             Local {

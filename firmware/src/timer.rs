@@ -7,19 +7,27 @@
 
 use stm32f4::stm32f405::{RCC, TIM2};
 
+/// TIM2's clock [Hz]. On a board APB1 x2 at a 168 MHz core clock; QEMU's timer model counts a
+/// fixed 1 GHz whatever RCC says (the `qemu` build option, on by default).
+#[cfg(feature = "qemu")]
+pub const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
+/// TIM2's clock [Hz]: APB1 x2 at a 168 MHz core clock.
+#[cfg(not(feature = "qemu"))]
+pub const TIMER_CLOCK_HZ: u32 = 84_000_000;
+
 /// TIM2 as the period clock.
 pub struct PeriodTimer {
     tim: TIM2,
 }
 
 impl PeriodTimer {
-    /// Starts TIM2 with an update interrupt every `period_us` microseconds, from a timer clock
-    /// of `clock_hz`.
-    pub fn start(tim: TIM2, rcc: &RCC, clock_hz: u32, period_us: u32) -> Self {
+    /// Starts TIM2 with an update interrupt every `period_us` microseconds (its clock is
+    /// [`TIMER_CLOCK_HZ`]).
+    pub fn start(tim: TIM2, rcc: &RCC, period_us: u32) -> Self {
         rcc.apb1enr.modify(|_, w| w.tim2en().enabled());
         tim.cr1.write(|w| w.cen().disabled());
         tim.psc
-            .write(|w| w.psc().bits((clock_hz / 1_000_000 - 1) as u16));
+            .write(|w| w.psc().bits((TIMER_CLOCK_HZ / 1_000_000 - 1) as u16));
         tim.arr.write(|w| w.arr().bits(period_us - 1));
         // load the prescaler now (an update event), then clear the flag it sets
         tim.egr.write(|w| w.ug().set_bit());

@@ -196,7 +196,7 @@ fn calibration_curve(rows: &[Row]) {
     let first = |r: &Row, cut: f64| {
         r.candidates
             .iter()
-            .find(|c| c.3 && c.2 <= (1.0 - cut) * r.baseline_pct)
+            .find(|c| c.3 && diagnose::cuts_error_by(c.2, r.baseline_pct, cut))
             .map(|c| c.0.clone())
     };
     let ok: Vec<&Row> = rows.iter().filter(|r| r.error.is_none()).collect();

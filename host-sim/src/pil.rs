@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::plant::{Plant, PlantConfig, SensorConfig, Sensors};
 use crate::track;
 use lugre_servo::axis::AxisGeometry;
-use lugre_servo::control::{ControllerConfig, Features, Measurements, Reference};
+use lugre_servo::control::{ControllerConfig, Features};
 use lugre_servo::friction::{FrictionModel, LugreParams};
 use lugre_servo::link::{
     link_faults, status, ActuationFrame, ActuationReceiver, HelloFrame, Received, SensorFrame,
@@ -374,19 +374,19 @@ pub fn run(s: &Session) -> Result<Report> {
     let mut fault_periods = 0u32;
     let mut last = ActuationFrame::default();
     let mut first_warning = None;
-    let base = plant_cfg.friction.params;
+    let at = |t: f64, when: f64| (t - when).abs() < 0.5 * dt;
+    // the plant's friction after the rise, computed once
+    let risen = s
+        .friction_rise
+        .and_then(|r| crate::scenarios::scale_friction_levels(&plant_cfg.friction.params, 1.0 + r));
     let rise = |t: f64, plant: &mut Plant| {
-        if let Some(r) = s.friction_rise {
-            let k = if t < RISE_AT_S { 1.0 } else { 1.0 + r };
-            if let Some(q) = crate::scenarios::scale_friction_levels(&base, k) {
-                plant.config.friction.params = q;
-            }
+        if let (Some(q), true) = (risen, at(t, RISE_AT_S)) {
+            plant.config.friction.params = q;
         }
     };
     let mut checks: Vec<FaultCheck> = Vec::new();
     // (fault, the period it was injected, its answer checked, periods since)
     let mut open: Option<(String, bool, u32)> = None;
-    let at = |t: f64, when: f64| (t - when).abs() < 0.5 * dt;
     let mut seq: u16 = 0;
     let mut valve: Vec<f32> = Vec::with_capacity(n);
     let bar = indicatif::ProgressBar::new(n as u64).with_style(
@@ -399,21 +399,11 @@ pub fn run(s: &Session) -> Result<Report> {
         }
         let t = k as f64 * dt;
         rise(t, &mut plant);
-        let m = sens.sample(&plant);
-        let (x, v, a) = reference(t);
+        let (measurements, r) = track::controller_inputs(&sens.sample(&plant), reference(t));
         let frame = SensorFrame {
             seq,
-            measurements: Measurements {
-                position_m: m.x as f32,
-                pressure_a_pa: m.p_a as f32,
-                pressure_b_pa: m.p_b as f32,
-                temperature_c: Some(m.temperature_c as f32),
-            },
-            reference: Reference {
-                position_m: x as f32,
-                velocity_m_per_s: v as f32,
-                acceleration_m_per_s2: a as f32,
-            },
+            measurements,
+            reference: r,
         };
         if let (Some(p), true) = (s.settings, at(t, SETTINGS_AT_S)) {
             let set = SettingsFrame {
@@ -521,9 +511,9 @@ pub fn run(s: &Session) -> Result<Report> {
                 "no answer"
             }
             .into(),
-            valve_step_after: largest_step(&valve, k, k + 300),
-            valve_step_before: largest_step(&valve, k.saturating_sub(300), k),
-            host_valve_step_after: largest_step(&host.valve_command, k, k + 300),
+            valve_step_after: track::largest_step(&valve, k, k + 300),
+            valve_step_before: track::largest_step(&valve, k.saturating_sub(300), k),
+            host_valve_step_after: track::largest_step(&host.valve_command, k, k + 300),
         }
     });
     Ok(Report {
@@ -546,14 +536,4 @@ pub fn run(s: &Session) -> Result<Report> {
         settings,
         wall_s: wall.elapsed().as_secs_f64(),
     })
-}
-
-/// The largest change of `u` from one period to the next over periods `from..to` (clipped).
-fn largest_step(u: &[f32], from: usize, to: usize) -> f32 {
-    let to = to.min(u.len());
-    let from = from.saturating_sub(1).min(to);
-    u[from..to]
-        .windows(2)
-        .map(|w| (w[1] - w[0]).abs())
-        .fold(0.0, f32::max)
 }

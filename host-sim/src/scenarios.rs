@@ -124,13 +124,10 @@ pub fn scale_friction_levels(
     base: &lugre_servo::friction::LugreParams<f64>,
     k: f64,
 ) -> Option<lugre_servo::friction::LugreParams<f64>> {
-    lugre_servo::friction::LugreParams::new(
-        base.bristle_stiffness(),
-        base.bristle_damping(),
+    base.with_levels(
         k * base.viscous_coefficient(),
         k * base.coulomb_force(),
         k * base.static_force(),
-        base.stribeck_velocity(),
     )
     .ok()
 }

@@ -98,21 +98,8 @@ pub fn run_changing(
     for k in 0..n {
         let t = k as f64 * dt;
         change(t, &mut plant, &mut controller);
-        let m = sens.sample(&plant);
-        let (x, v, a) = reference(t);
-        let out = controller.tick(
-            &Measurements {
-                position_m: m.x as f32,
-                pressure_a_pa: m.p_a as f32,
-                pressure_b_pa: m.p_b as f32,
-                temperature_c: Some(m.temperature_c as f32),
-            },
-            &Reference {
-                position_m: x as f32,
-                velocity_m_per_s: v as f32,
-                acceleration_m_per_s2: a as f32,
-            },
-        );
+        let (m, r) = controller_inputs(&sens.sample(&plant), reference(t));
+        let out = controller.tick(&m, &r);
         if out.health_warning && first_health_warning_s.is_none() {
             first_health_warning_s = Some(t);
         }
@@ -160,6 +147,38 @@ pub fn run_changing(
         final_temperature_c: plant.state.temperature_c,
         first_health_warning_s,
     }
+}
+
+/// What the controller gets in a period (f32, as on the MCU): the sensors' measurement and the
+/// reference `(x, v, a)`.
+pub fn controller_inputs(
+    m: &crate::plant::Measurement,
+    (x, v, a): (f64, f64, f64),
+) -> (Measurements, Reference) {
+    (
+        Measurements {
+            position_m: m.x as f32,
+            pressure_a_pa: m.p_a as f32,
+            pressure_b_pa: m.p_b as f32,
+            temperature_c: Some(m.temperature_c as f32),
+        },
+        Reference {
+            position_m: x as f32,
+            velocity_m_per_s: v as f32,
+            acceleration_m_per_s2: a as f32,
+        },
+    )
+}
+
+/// The largest change of a per-period signal `u` (a valve command) from one period to the
+/// next, over the steps into periods `from..to` (clipped to the signal).
+pub fn largest_step(u: &[f32], from: usize, to: usize) -> f32 {
+    let to = to.min(u.len());
+    let from = from.saturating_sub(1).min(to);
+    u[from..to]
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .fold(0.0, f32::max)
 }
 
 /// The low-speed reference.

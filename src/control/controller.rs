@@ -460,18 +460,10 @@ impl ParamRamp {
     fn advance(&mut self) -> LugreParams<f32> {
         self.done = (self.done + 1).min(self.total);
         let s = self.done as f32 / self.total.max(1) as f32;
-        let (a, b) = (&self.from, &self.to);
-        let mix = |x: f32, y: f32| x + s * (y - x);
-        LugreParams::new(
-            mix(a.bristle_stiffness(), b.bristle_stiffness()),
-            mix(a.bristle_damping(), b.bristle_damping()),
-            mix(a.viscous_coefficient(), b.viscous_coefficient()),
-            mix(a.coulomb_force(), b.coulomb_force()),
-            mix(a.static_force(), b.static_force()),
-            mix(a.stribeck_velocity(), b.stribeck_velocity()),
-        )
-        // rounding could put Fs a hair below Fc mid-ramp: then the target at once
-        .unwrap_or(self.to)
+        let (a, b) = (self.from.to_array(), self.to.to_array());
+        LugreParams::from_array(core::array::from_fn(|i| a[i] + s * (b[i] - a[i])))
+            // rounding could put Fs a hair below Fc mid-ramp: then the target at once
+            .unwrap_or(self.to)
     }
 
     fn finished(&self) -> bool {

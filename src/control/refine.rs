@@ -60,6 +60,11 @@ pub struct Refiner {
     pub nominal: [f32; 3],
     /// `(Fs - Fc) / Fc` of the identified values, held.
     rho: f32,
+    /// The identified `[Fc, sigma2]`: the centre of the bounds and of the step limits.
+    centre: Vector2<f32>,
+    /// `(0.1 max(|centre_i|, 1))^2`: the prior variances (a 10 % standard deviation), the
+    /// covariance's start and the cap of its diagonal against wind-up.
+    prior_variance: Vector2<f32>,
     /// `[Fc, sigma2]`: what the least squares estimates.
     est: Vector2<f32>,
     /// Its covariance.
@@ -71,23 +76,19 @@ pub struct Refiner {
 impl Refiner {
     /// Starts at the identified values `[Fc, Fs - Fc, sigma2]`.
     pub fn new(nominal: [f32; 3]) -> Self {
-        let est = Vector2::new(nominal[0], nominal[2]);
+        let centre = Vector2::new(nominal[0], nominal[2]);
+        let prior_variance = centre.map(|e| 1e-2 * e.abs().max(1.0) * e.abs().max(1.0));
         Self {
             theta: nominal,
             nominal,
             rho: nominal[1] / nominal[0].max(1e-6),
-            est,
-            p: Self::initial_covariance(&est),
+            centre,
+            prior_variance,
+            est: centre,
+            p: Matrix2::from_diagonal(&prior_variance),
             y_f: 0.0,
             phi_f: Vector2::zeros(),
         }
-    }
-
-    /// `diag((0.1 max(|est_i|, 1))^2)`: a 10 % prior standard deviation; also the cap of the
-    /// diagonal against wind-up.
-    fn initial_covariance(est: &Vector2<f32>) -> Matrix2<f32> {
-        let s = est.map(|e| 1e-2 * e.abs().max(1.0) * e.abs().max(1.0));
-        Matrix2::from_diagonal(&s)
     }
 
     /// Resets to the identified values.
@@ -116,18 +117,21 @@ impl Refiner {
             return false;
         }
         let err = self.y_f - ph.dot(&self.est);
-        let nominal = Vector2::new(self.nominal[0], self.nominal[2]);
+        let gain = pp / denom;
+        let centre = self.centre;
         for i in 0..2 {
-            let limit = c.max_step * nominal[i].abs();
-            let step = (pp[i] / denom * err).clamp(-limit, limit);
+            let limit = c.max_step * centre[i].abs();
+            let step = (gain[i] * err).clamp(-limit, limit);
             self.est[i] =
-                (self.est[i] + step).clamp(c.bounds[0] * nominal[i], c.bounds[1] * nominal[i]);
+                (self.est[i] + step).clamp(c.bounds[0] * centre[i], c.bounds[1] * centre[i]);
         }
+        // pp pp' / denom, not gain pp': the product of a vector with itself is exactly
+        // symmetric in floating point, and a covariance that drifts from symmetry made the
+        // estimate run to its bound in the warming-oil test (Fc 253 N against 608)
         let mut next = (self.p - pp * pp.transpose() / denom) / c.forgetting;
         // covariance wind-up guard: cap the diagonal at its initial size
-        let cap = Self::initial_covariance(&nominal);
         for i in 0..2 {
-            next[(i, i)] = next[(i, i)].clamp(0.0, cap[(i, i)]);
+            next[(i, i)] = next[(i, i)].clamp(0.0, self.prior_variance[i]);
         }
         if next.iter().all(|x| x.is_finite()) && self.est.iter().all(|x| x.is_finite()) {
             self.p = next;

@@ -190,6 +190,11 @@ impl<T: Float> LugreParams<T> {
         })
     }
 
+    /// [`LugreParams::new`] from the six values in the order of [`LugreParams::to_array`].
+    pub fn from_array(v: [T; 6]) -> Result<Self, ParamError> {
+        Self::new(v[0], v[1], v[2], v[3], v[4], v[5])
+    }
+
     /// The six values in the order of the link frames and Table 2:
     /// `[sigma0, sigma1, sigma2, Fc, Fs, vs]`.
     pub fn to_array(&self) -> [T; 6] {

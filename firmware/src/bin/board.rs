@@ -30,19 +30,15 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     }
 }
 
-/// TIM2's clock on the board [Hz]: APB1 x2 at a 168 MHz core clock.
-const TIMER_CLOCK_HZ: u32 = 84_000_000;
 /// Where the axis is at power-up [m] (a homing routine would set it).
 const ORIGIN_M: f32 = 0.25;
 
 #[rtic::app(device = stm32f4::stm32f405, peripherals = true, dispatchers = [EXTI0])]
 mod app {
-    use super::{ORIGIN_M, TIMER_CLOCK_HZ};
-    use lugre_servo::axis::AxisGeometry;
+    use super::ORIGIN_M;
     use lugre_servo::control::health::HealthEvent;
-    use lugre_servo::control::{Controller, ControllerConfig, Features, Reference};
+    use lugre_servo::control::{Controller, Reference};
     use lugre_servo_firmware::board::Board;
-    use lugre_servo_firmware::params;
     use lugre_servo_firmware::stm32_board::Stm32Board;
     use lugre_servo_firmware::timer::PeriodTimer;
 
@@ -60,12 +56,8 @@ mod app {
     fn init(cx: init::Context) -> (Shared, Local) {
         let d = cx.device;
         let board = Stm32Board::new(&d.RCC, d.GPIOA, d.GPIOC, d.TIM5, d.ADC1, d.DAC, ORIGIN_M);
-        let axis = AxisGeometry {
-            moving_mass_kg: params::MOVING_MASS_KG as f64,
-            ..AxisGeometry::SIMULATED
-        };
-        let config = ControllerConfig::for_axis(&axis, params::model(), Features::FULL);
-        let timer = PeriodTimer::start(d.TIM2, &d.RCC, TIMER_CLOCK_HZ, 1000);
+        let config = lugre_servo_firmware::controller_config();
+        let timer = PeriodTimer::start(d.TIM2, &d.RCC, 1000);
         (
             Shared {},
             Local {

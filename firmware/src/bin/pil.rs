@@ -51,25 +51,17 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 /// Checks a settings frame's parameters with the core's rules and hands them to the
 /// controller; the parameters if they were applied.
 fn apply(ctrl: &mut Controller, set: &SettingsFrame) -> Option<LugreParams<f32>> {
-    let [s0, s1, s2, fc, fs, vs] = set.lugre;
-    let p = LugreParams::new(s0, s1, s2, fc, fs, vs).ok()?;
+    let p = LugreParams::from_array(set.lugre).ok()?;
     ctrl.set_friction(p).ok()?;
     Some(p)
 }
 
-/// TIM2's clock [Hz] (see the self-test, `src/main.rs`).
-#[cfg(feature = "qemu")]
-const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
-#[cfg(not(feature = "qemu"))]
-const TIMER_CLOCK_HZ: u32 = 84_000_000;
-
 #[rtic::app(device = stm32f4::stm32f405, peripherals = true, dispatchers = [EXTI0])]
 mod app {
-    use super::{apply, RECOVERY_FRAMES, STALL_MS, TIMER_CLOCK_HZ};
-    use lugre_servo::axis::AxisGeometry;
+    use super::{apply, RECOVERY_FRAMES, STALL_MS};
     use lugre_servo::control::controller::Mode;
     use lugre_servo::control::health::HealthEvent;
-    use lugre_servo::control::{Controller, ControllerConfig, Features};
+    use lugre_servo::control::{Controller, ControllerConfig};
     use lugre_servo::link::{
         link_faults, status, ActuationFrame, HelloFrame, HostFrame, Received, SensorReceiver,
         PROTOCOL_VERSION,
@@ -117,11 +109,7 @@ mod app {
         let cal = Cycles::calibrate(&mut core.SYST);
         let mut usart = Usart::new(cx.device.USART1, &cx.device.RCC);
         write_valve(0.0);
-        let axis = AxisGeometry {
-            moving_mass_kg: params::MOVING_MASS_KG as f64,
-            ..AxisGeometry::SIMULATED
-        };
-        let config = ControllerConfig::for_axis(&axis, params::model(), Features::FULL);
+        let config = lugre_servo_firmware::controller_config();
         usart.write_all(
             &HelloFrame {
                 version: PROTOCOL_VERSION,
@@ -131,7 +119,7 @@ mod app {
             }
             .encode(),
         );
-        let timer = PeriodTimer::start(cx.device.TIM2, &cx.device.RCC, TIMER_CLOCK_HZ, 1000);
+        let timer = PeriodTimer::start(cx.device.TIM2, &cx.device.RCC, 1000);
         (
             Shared {
                 link: Link {

@@ -65,6 +65,10 @@ pub struct Departure {
     pub peak_n: f64,
     /// Mean measured force over the rest [N].
     pub holding_n: f64,
+    /// Samples the peak is read over (`[end - PRE_S, end + POST_S]`, cut at the next rest):
+    /// a model's peak is read over the same ones.
+    #[serde(skip)]
+    pub window: std::ops::Range<usize>,
 }
 
 /// The departures of a record and what their peaks say on their own.
@@ -154,7 +158,7 @@ impl Breakaway {
                     continue;
                 };
                 let d = p.v[fast].signum();
-                let peak_n = peak(&p.force, w, d);
+                let peak_n = peak(&p.force, w.clone(), d);
                 // a breakaway pushes in the direction of the motion that follows; a start
                 // carried by inertia or a passing load is no breakaway
                 if d * peak_n <= 0.0 {
@@ -168,6 +172,7 @@ impl Breakaway {
                     direction: d,
                     peak_n,
                     holding_n: held.iter().sum::<f64>() / held.len() as f64,
+                    window: w,
                 });
             }
         }
@@ -207,21 +212,16 @@ impl Breakaway {
     }
 
     /// The breakaway peaks of a model's filtered force prediction, one per departure.
-    pub fn model_peaks(&self, p: &Prepared, prediction: &[f64]) -> Vec<f64> {
+    pub fn model_peaks(&self, prediction: &[f64]) -> Vec<f64> {
         self.departures
             .iter()
-            .map(|d| {
-                let next = (d.index..p.len())
-                    .find(|&k| p.v[k].abs() < STUCK_SPEED)
-                    .unwrap_or(p.len());
-                peak(prediction, window(p, d.index, next), d.direction)
-            })
+            .map(|d| peak(prediction, d.window.clone(), d.direction))
             .collect()
     }
 
     /// Sum of squared peak residuals of a model's prediction [N^2].
-    pub fn peak_rss(&self, p: &Prepared, prediction: &[f64]) -> f64 {
-        self.model_peaks(p, prediction)
+    pub fn peak_rss(&self, prediction: &[f64]) -> f64 {
+        self.model_peaks(prediction)
             .iter()
             .zip(&self.departures)
             .map(|(m, d)| (d.peak_n - m).powi(2))
@@ -230,12 +230,12 @@ impl Breakaway {
 
     /// Evidence from the peaks for a candidate's prediction over the current model's:
     /// `n ln(RSS_current / RSS_candidate)`; 0 without departures.
-    pub fn peak_dbic(&self, p: &Prepared, current: &[f64], candidate: &[f64]) -> f64 {
+    pub fn peak_dbic(&self, current: &[f64], candidate: &[f64]) -> f64 {
         let n = self.departures.len();
         if n == 0 {
             return 0.0;
         }
-        let (r0, r1) = (self.peak_rss(p, current), self.peak_rss(p, candidate));
+        let (r0, r1) = (self.peak_rss(current), self.peak_rss(candidate));
         if !(r0 > 0.0 && r1 > 0.0) {
             return 0.0;
         }
@@ -337,6 +337,7 @@ mod tests {
                     direction: d,
                     peak_n: d * (level + increase * -(-r / 0.3f64).exp_m1() + wobble),
                     holding_n: 0.0,
+                    window: 0..0,
                 }
             })
             .collect()

@@ -111,8 +111,7 @@ fn breakaway_section(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<Strin
     if b.departures.is_empty() {
         return Ok(out);
     }
-    let p = &d.prepared;
-    let (m_first, m_last) = (b.model_peaks(p, first), b.model_peaks(p, last));
+    let (m_first, m_last) = (b.model_peaks(first), b.model_peaks(last));
     let x = |e: &super::breakaway::Departure| e.rest_s.max(1e-3).log10();
     let xr = chart::range(b.departures.iter().map(x));
     let y = chart::range(
