@@ -351,11 +351,6 @@ impl<const N: usize> Receiver<N> {
         self
     }
 
-    /// Drops a partial frame (after a timeout: the next byte starts a new hunt).
-    pub fn reset(&mut self) {
-        self.len = 0;
-    }
-
     /// Takes one byte; returns the frame's kind and its checked bytes (the first
     /// `len` of the buffer) when it completes one.
     pub fn push(&mut self, byte: u8) -> Received<(usize, [u8; N])> {
@@ -544,15 +539,6 @@ mod tests {
         assert_eq!(
             got.as_slice(),
             &[Received::BadChecksum, Received::Frame(HostFrame::Sensor(s))]
-        );
-        // a reset (the MCU's stall timeout) drops a partial frame at once
-        for &b in &s.encode()[..20] {
-            rx.push_host(b);
-        }
-        rx.reset();
-        assert_eq!(
-            feed_sensor(&mut rx, &s.encode()).as_slice(),
-            &[Received::Frame(HostFrame::Sensor(s))]
         );
     }
 

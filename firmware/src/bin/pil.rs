@@ -14,7 +14,7 @@
 //! - a frame that fails its checksum: valve to null, answered with a fault frame (the host
 //!   keeps its clock);
 //! - a skipped sequence number (a lost frame): valve to null;
-//! - no frame for [`STALL_MS`] (a stalled host): valve to null while waiting;
+//! - no byte for [`STALL_MS`] (a stalled host): valve to null while waiting;
 //!
 //! and after each, the loop holds the valve at null for [`RECOVERY_FRAMES`] good frames, then
 //! starts a fresh controller from where the axis is. The panic handler nulls the valve too.
@@ -83,7 +83,7 @@ mod app {
         pending: u8,
         /// Good frames left with the valve held at null.
         hold: u32,
-        /// Watchdog periods since the last frame.
+        /// Watchdog periods since the last byte.
         silent_ms: u32,
         stalled: bool,
         settings_status: u8,
@@ -155,7 +155,11 @@ mod app {
         }
     }
 
-    /// The link watchdog: a host silent for [`STALL_MS`] nulls the valve.
+    /// The link watchdog: a host silent for [`STALL_MS`] nulls the valve. It keeps a partly
+    /// received frame: its remaining bytes may only be late (QEMU hands the guest one byte per
+    /// main-loop pass, and a starved host delays them while the emulated clock runs on); were
+    /// it dropped, the frame's tail would be hunted as garbage and the host would wait for an
+    /// answer that never comes. A host that restarts mid-frame gets a checksum fault answered.
     #[task(binds = TIM2, priority = 3, local = [timer], shared = [link])]
     fn watchdog(mut cx: watchdog::Context) {
         cx.local.timer.acknowledge();
@@ -163,7 +167,6 @@ mod app {
             l.silent_ms = l.silent_ms.saturating_add(1);
             if l.silent_ms > STALL_MS && l.expected.is_some() && !l.stalled {
                 write_valve(0.0);
-                l.rx.reset();
                 l.stalled = true;
                 l.pending |= link_faults::STALL;
                 l.hold = RECOVERY_FRAMES;
@@ -181,6 +184,8 @@ mod app {
             return;
         };
         cx.shared.link.lock(|l| {
+            // a byte: the host is alive
+            l.silent_ms = 0;
             let (seq, tick) = match l.rx.push_host(byte) {
                 Received::Pending => return,
                 Received::Frame(HostFrame::Settings(set)) => {
@@ -217,7 +222,6 @@ mod app {
                     (f.seq, Some(f))
                 }
             };
-            l.silent_ms = 0;
             l.stalled = false;
             let mut reply = ActuationFrame {
                 seq,
