@@ -7,7 +7,8 @@
 //!   `host-sim`'s hydraulic plant over USART1 ([`usart`], frames of `lugre_servo::link`), the
 //!   host being the clock.
 //! - `board` (`src/bin/board.rs`): a servo board's firmware on the real peripherals
-//!   ([`stm32_board`]), built without the `qemu` option.
+//!   (`stm32_board`, on the STM32F4 HAL, with the `board` feature), built without the `qemu`
+//!   option.
 
 #![no_std]
 #![deny(unsafe_code)]
@@ -15,6 +16,7 @@
 pub mod board;
 pub mod cycles;
 pub mod plant;
+#[cfg(feature = "board")]
 pub mod stm32_board;
 pub mod telemetry;
 pub mod timer;

@@ -1,4 +1,4 @@
-//! The servo board: the [`Board`] boundary on a real STM32F405, through the register crate.
+//! The servo board: the [`Board`] boundary on a real STM32F405, through the STM32F4 HAL.
 //!
 //! Peripheral and pin choices of a typical STM32F405 servo board (QEMU models none of the
 //! encoder mode, the ADC's conversions as wired here, the DAC or GPIO, so this board is built,
@@ -13,12 +13,25 @@
 //!   and 15-cycle sampling).
 //! - **valve**: DAC channel 1 (PA4, analog) into a +-10 V valve amplifier; null = mid-scale.
 //!
-//! Clock tree (RCC, PLL to 168 MHz) and the amplifier's enable line are the board support's
-//! job before [`Stm32Board::new`]; after it, only this file touches these peripherals.
+//! The clock tree (8 MHz crystal, PLL to a 168 MHz core, APB1 at 42 MHz so the timers count
+//! at 84 MHz) is set by [`Stm32Board::clocks`]; after [`Stm32Board::new`] only this file
+//! touches these peripherals. Everything goes through the STM32F4 HAL (`stm32f4xx-hal`) but
+//! the panic handler's DAC write, which cannot own the peripheral.
 
 use crate::board::{write_valve, Board};
 use lugre_servo::control::Measurements;
-use stm32f4::stm32f405::{ADC1, DAC, GPIOA, GPIOC, RCC, TIM5};
+use stm32f4xx_hal::{
+    adc::{
+        config::{AdcConfig, SampleTime},
+        Adc,
+    },
+    dac::{DacExt, DacOut, DacPin, C1},
+    gpio::{Analog, GpioExt, PC0, PC1},
+    pac::{ADC1, DAC, GPIOA, GPIOC, RCC, TIM5},
+    prelude::*,
+    qei::Qei,
+    rcc::{Clocks, RccExt},
+};
 
 /// Length of one encoder count [m] (a 0.1 um linear scale, counted on both edges).
 pub const COUNT_M: f32 = 1e-7;
@@ -30,20 +43,36 @@ const ADC_20MA: f32 = 3.0 / 3.3 * 4095.0;
 /// DAC counts of the valve's null and of full opening either way (12 bits).
 const DAC_NULL: f32 = 2048.0;
 const DAC_SPAN: f32 = 2047.0;
+/// The board's crystal [MHz].
+const HSE_MHZ: u32 = 8;
 
 /// The servo board's peripherals, configured.
 pub struct Stm32Board {
-    encoder: TIM5,
-    adc: ADC1,
-    dac: DAC,
+    encoder: Qei<TIM5>,
+    adc: Adc<ADC1>,
+    pressure_a: PC0<Analog>,
+    pressure_b: PC1<Analog>,
+    valve: C1,
     /// Axis position at encoder count zero [m] (where the axis was at power-up or homing).
     origin_m: f32,
 }
 
 impl Stm32Board {
+    /// The board's clock tree: the crystal through the PLL to a 168 MHz core; APB1 at 42 MHz,
+    /// so its timers (TIM2, the period's, and TIM5) count at 84 MHz; APB2 at 84 MHz, which
+    /// [`Stm32Board::new`] divides by 4 for the ADC (21 MHz, under its 36 MHz limit).
+    pub fn clocks(rcc: RCC) -> Clocks {
+        rcc.constrain()
+            .cfgr
+            .use_hse(HSE_MHZ.MHz())
+            .sysclk(168.MHz())
+            .pclk1(42.MHz())
+            .pclk2(84.MHz())
+            .freeze()
+    }
+
     /// Configures the pins, the encoder timer, the ADC and the DAC; the valve starts at null.
     pub fn new(
-        rcc: &RCC,
         gpioa: GPIOA,
         gpioc: GPIOC,
         encoder: TIM5,
@@ -51,55 +80,31 @@ impl Stm32Board {
         dac: DAC,
         origin_m: f32,
     ) -> Self {
-        rcc.ahb1enr
-            .modify(|_, w| w.gpioaen().enabled().gpiocen().enabled());
-        rcc.apb1enr
-            .modify(|_, w| w.tim5en().enabled().dacen().enabled());
-        rcc.apb2enr.modify(|_, w| w.adc1en().enabled());
-        // PA0/PA1: TIM5 CH1/CH2 (AF2); PA4: DAC out (analog); PC0/PC1: ADC in (analog)
-        gpioa.afrl.modify(|_, w| w.afrl0().af2().afrl1().af2());
-        gpioa.moder.modify(|_, w| {
-            w.moder0()
-                .alternate()
-                .moder1()
-                .alternate()
-                .moder4()
-                .analog()
-        });
-        gpioc
-            .moder
-            .modify(|_, w| w.moder0().analog().moder1().analog());
-        // encoder: TI1 and TI2 as inputs, both edges of both (mode 3), the whole 32 bits
-        encoder.ccmr1_input().write(|w| w.cc1s().ti1().cc2s().ti2());
-        encoder.smcr.write(|w| w.sms().encoder_mode_3());
-        encoder.arr.write(|w| w.arr().bits(u32::MAX));
-        encoder.cnt.write(|w| w.cnt().bits(0));
-        encoder.cr1.write(|w| w.cen().enabled());
-        // ADC: on, one conversion at a time, 15-cycle sampling on both channels
-        adc.smpr1
-            .modify(|_, w| w.smp10().cycles15().smp11().cycles15());
-        adc.cr2.write(|w| w.adon().enabled());
-        // DAC channel 1 on, at null
-        dac.cr.write(|w| w.en1().enabled());
+        let pa = gpioa.split();
+        let pc = gpioc.split();
+        // encoder: TIM5 CH1/CH2 on PA0/PA1, both edges of both channels, the whole 32 bits
+        let encoder = Qei::new(encoder, (pa.pa0, pa.pa1));
+        // ADC: single conversions on request, 21 MHz (APB2 / 4), 15-cycle sampling
+        let adc = Adc::adc1(
+            adc,
+            true,
+            AdcConfig::default()
+                .clock(stm32f4xx_hal::adc::config::Clock::Pclk2_div_4)
+                .default_sample_time(SampleTime::Cycles_15),
+        );
+        // DAC channel 1 on PA4, on, at null
+        let mut valve = dac.constrain(pa.pa4.into_analog());
+        valve.enable();
         let mut board = Self {
             encoder,
             adc,
-            dac,
+            pressure_a: pc.pc0.into_analog(),
+            pressure_b: pc.pc1.into_analog(),
+            valve,
             origin_m,
         };
         board.null_valve();
         board
-    }
-
-    /// One conversion of ADC1 channel `channel` [counts].
-    #[allow(unsafe_code)]
-    fn convert(&mut self, channel: u8) -> u16 {
-        // SAFETY: the register crate marks SQ1 unsafe because it does not know the valid
-        // channel numbers; 10 and 11 (the only values passed) are ADC1 inputs.
-        self.adc.sqr3.write(|w| unsafe { w.sq1().bits(channel) });
-        self.adc.cr2.modify(|_, w| w.swstart().start());
-        while self.adc.sr.read().eoc().bit_is_clear() {}
-        self.adc.dr.read().data().bits()
     }
 
     /// A transmitter's pressure from its ADC counts [Pa] (below 4 mA reads as a fault, NaN,
@@ -127,8 +132,11 @@ pub fn null_valve_from_panic() {
 
 impl Board for Stm32Board {
     fn sample(&mut self) -> Measurements {
-        let counts = self.encoder.cnt.read().cnt().bits() as i32;
-        let (a, b) = (self.convert(10), self.convert(11));
+        use stm32f4xx_hal::hal_02::Qei as _;
+        // the 32-bit count as a signed position (the axis may go below its origin)
+        let counts = self.encoder.count() as i32;
+        let a = self.adc.convert(&self.pressure_a, SampleTime::Cycles_15);
+        let b = self.adc.convert(&self.pressure_b, SampleTime::Cycles_15);
         Measurements {
             position_m: self.origin_m + counts as f32 * COUNT_M,
             pressure_a_pa: Self::pressure(a),
@@ -144,16 +152,12 @@ impl Board for Stm32Board {
             0.0
         };
         let counts = (DAC_NULL + u * DAC_SPAN) as u16;
-        self.dac
-            .dhr12r1
-            .write(|w| w.dacc1dhr().bits(counts.min(4095)));
+        self.valve.set_value(counts.min(4095));
         write_valve(u);
     }
 
     fn null_valve(&mut self) {
-        self.dac
-            .dhr12r1
-            .write(|w| w.dacc1dhr().bits(DAC_NULL as u16));
+        self.valve.set_value(DAC_NULL as u16);
         write_valve(0.0);
     }
 }

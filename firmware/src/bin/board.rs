@@ -2,9 +2,10 @@
 //!
 //! The same RTIC shape as the self-test: TIM2's update interrupt runs the control period at
 //! the top priority (sample the encoder and the pressures, tick, command the valve, through
-//! [`Stm32Board`]); friction health events go to a software task at the lowest priority. The
-//! model is the parameter file's (build time). Built without the `qemu` option, for the
-//! board's clock tree; not run in CI (QEMU models neither the encoder mode nor the DAC).
+//! [`Stm32Board`], on the STM32F4 HAL); friction health events go to a software task at the
+//! lowest priority. The model is the parameter file's (build time). Built without the `qemu`
+//! option, for the board's clock tree; not run in CI (in QEMU the HAL's clock setup waits
+//! forever for RCC's ready bits, and QEMU models neither the encoder mode nor the DAC).
 //! Settings at run time arrive as on the PIL link ([`lugre_servo::link::SettingsFrame`]) on a
 //! board's serial port; that path is exercised by the PIL firmware.
 
@@ -33,14 +34,16 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 /// Where the axis is at power-up [m] (a homing routine would set it).
 const ORIGIN_M: f32 = 0.25;
 
-#[rtic::app(device = stm32f4::stm32f405, peripherals = true, dispatchers = [EXTI0])]
+#[rtic::app(device = stm32f4xx_hal::pac, peripherals = true, dispatchers = [EXTI0])]
 mod app {
     use super::ORIGIN_M;
     use lugre_servo::control::health::HealthEvent;
     use lugre_servo::control::{Controller, Reference};
     use lugre_servo_firmware::board::Board;
     use lugre_servo_firmware::stm32_board::Stm32Board;
-    use lugre_servo_firmware::timer::PeriodTimer;
+    use stm32f4xx_hal::pac::TIM2;
+    use stm32f4xx_hal::prelude::*;
+    use stm32f4xx_hal::timer::{CounterHz, Event, Flag};
 
     #[shared]
     struct Shared {}
@@ -49,15 +52,22 @@ mod app {
     struct Local {
         ctrl: Controller,
         board: Stm32Board,
-        timer: PeriodTimer,
+        timer: CounterHz<TIM2>,
     }
 
     #[init]
     fn init(cx: init::Context) -> (Shared, Local) {
         let d = cx.device;
-        let board = Stm32Board::new(&d.RCC, d.GPIOA, d.GPIOC, d.TIM5, d.ADC1, d.DAC, ORIGIN_M);
+        let clocks = Stm32Board::clocks(d.RCC);
+        let board = Stm32Board::new(d.GPIOA, d.GPIOC, d.TIM5, d.ADC1, d.DAC, ORIGIN_M);
         let config = lugre_servo_firmware::controller_config();
-        let timer = PeriodTimer::start(d.TIM2, &d.RCC, 1000);
+        // the period: TIM2's update event at the loop rate
+        let mut timer = d.TIM2.counter_hz(&clocks);
+        if timer.start(1.kHz()).is_err() {
+            // a clock tree that cannot make 1 kHz: never start the loop (the valve stays null)
+            panic!("TIM2 cannot count 1 kHz from {} Hz", clocks.timclk1().raw());
+        }
+        timer.listen(Event::Update);
         (
             Shared {},
             Local {
@@ -80,7 +90,7 @@ mod app {
     #[task(binds = TIM2, priority = 3, local = [ctrl, board, timer])]
     fn period(cx: period::Context) {
         let l = cx.local;
-        l.timer.acknowledge();
+        l.timer.clear_flags(Flag::Update);
         let m = l.board.sample();
         let r = Reference {
             position_m: ORIGIN_M,
