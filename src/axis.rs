@@ -11,13 +11,13 @@ use core::f64::consts::PI;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AxisGeometry {
-    /// Piston (bore) diameter D [m].
+    /// Piston (bore) diameter D \[m\].
     pub bore_m: f64,
-    /// Rod diameter d [m].
+    /// Rod diameter d \[m\].
     pub rod_m: f64,
-    /// Stroke [m]: positions run from 0 to this.
+    /// Stroke \[m\]: positions run from 0 to this.
     pub stroke_m: f64,
-    /// Moving mass M [kg] (piston, rod and load).
+    /// Moving mass M \[kg\] (piston, rod and load).
     pub moving_mass_kg: f64,
 }
 

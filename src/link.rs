@@ -71,7 +71,7 @@ pub struct HelloFrame {
     pub version: u8,
     /// Bit 0: the friction model came from a parameter file at build time.
     pub flags: u8,
-    /// Moving mass [kg].
+    /// Moving mass \[kg\].
     pub mass_kg: f32,
     /// LuGre parameters: sigma0, sigma1, sigma2, Fc, Fs, vs (SI).
     pub lugre: [f32; 6],
@@ -113,9 +113,9 @@ pub struct ActuationFrame {
     pub seq: u16,
     /// Valve command in [-1, 1].
     pub valve_command: f32,
-    /// Force demand [N].
+    /// Force demand \[N\].
     pub force_demand_n: f32,
-    /// Friction compensation [N].
+    /// Friction compensation \[N\].
     pub friction_compensation_n: f32,
     /// The controller's fault bits ([`crate::control::Faults`]).
     pub faults: u16,

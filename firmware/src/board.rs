@@ -2,7 +2,7 @@
 //! nothing else. The control loop in `main.rs` talks only to this trait, so the same loop runs
 //! against the QEMU board here and against a real board's peripherals.
 //!
-//! Two implementations: [`crate::stm32_board::Stm32Board`], a real STM32F405 servo board
+//! Two implementations: `crate::stm32_board::Stm32Board` (the `board` feature), a real STM32F405 servo board
 //! (encoder on TIM5, pressures on ADC1, valve on the DAC; the control period from TIM2's
 //! interrupt; see that module for pins and scaling), and [`QemuBoard`] here. QEMU's
 //! `netduinoplus2` has no DAC and no GPIO, so the QEMU board keeps the valve command in memory
@@ -36,7 +36,7 @@ pub struct QemuBoard {
 }
 
 impl QemuBoard {
-    /// The axis at rest at `x` [m].
+    /// The axis at rest at `x` \[m\].
     pub fn new(x: f32) -> Self {
         write_valve(0.0);
         Self {
@@ -44,7 +44,7 @@ impl QemuBoard {
         }
     }
 
-    /// The plant's true position [m] (for the tracking figures, not for the controller).
+    /// The plant's true position \[m\] (for the tracking figures, not for the controller).
     pub fn true_position(&self) -> f32 {
         self.plant.x
     }

@@ -33,9 +33,9 @@ use stm32f4xx_hal::{
     rcc::{Clocks, RccExt},
 };
 
-/// Length of one encoder count [m] (a 0.1 um linear scale, counted on both edges).
+/// Length of one encoder count \[m\] (a 0.1 um linear scale, counted on both edges).
 pub const COUNT_M: f32 = 1e-7;
-/// Pressure at 20 mA [Pa] (a 250 bar transmitter).
+/// Pressure at 20 mA \[Pa\] (a 250 bar transmitter).
 pub const PRESSURE_FULL_SCALE_PA: f32 = 250e5;
 /// ADC counts at 4 mA and at 20 mA over the 150 ohm shunt (12 bits of 3.3 V).
 const ADC_4MA: f32 = 0.6 / 3.3 * 4095.0;

@@ -7,11 +7,11 @@
 
 use stm32f4::stm32f405::{RCC, TIM2};
 
-/// TIM2's clock [Hz]. On a board APB1 x2 at a 168 MHz core clock; QEMU's timer model counts a
+/// TIM2's clock \[Hz\]. On a board APB1 x2 at a 168 MHz core clock; QEMU's timer model counts a
 /// fixed 1 GHz whatever RCC says (the `qemu` build option, on by default).
 #[cfg(feature = "qemu")]
 pub const TIMER_CLOCK_HZ: u32 = 1_000_000_000;
-/// TIM2's clock [Hz]: APB1 x2 at a 168 MHz core clock.
+/// TIM2's clock \[Hz\]: APB1 x2 at a 168 MHz core clock.
 #[cfg(not(feature = "qemu"))]
 pub const TIMER_CLOCK_HZ: u32 = 84_000_000;
 

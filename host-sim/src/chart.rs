@@ -14,7 +14,7 @@ pub const FINAL_MODEL: RGBColor = RGBColor(33, 102, 172);
 pub const PLUS: RGBColor = RGBColor(27, 120, 55);
 /// Negative direction of motion.
 pub const MINUS: RGBColor = RGBColor(153, 112, 171);
-/// Width of every chart [px].
+/// Width of every chart \[px\].
 pub const WIDTH: u32 = 900;
 
 /// A chart's frame: title, axis descriptions with units, and ranges.
@@ -50,7 +50,7 @@ pub struct Panel<'a> {
     pub frame: Frame<'a>,
     /// Points (x, y, colour).
     pub points: Vec<(f64, f64, RGBColor)>,
-    /// Radius of the points [px] (1 for thousands of samples, more for a few events).
+    /// Radius of the points \[px\] (1 for thousands of samples, more for a few events).
     pub radius: u32,
 }
 

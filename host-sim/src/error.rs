@@ -120,9 +120,9 @@ pub enum DataProblem {
     TimeNotIncreasing {
         /// 1-based sample number.
         sample: usize,
-        /// Its time [s].
+        /// Its time \[s\].
         t_s: f64,
-        /// The previous sample's time [s].
+        /// The previous sample's time \[s\].
         previous_s: f64,
     },
     /// Sampled too slowly to see friction dynamics.
@@ -131,7 +131,7 @@ pub enum DataProblem {
         hz(1.0 / .median_interval_s), seconds(*.median_interval_s), MIN_RATE_HZ
     )]
     TooSlow {
-        /// Median sample interval [s].
+        /// Median sample interval \[s\].
         median_interval_s: f64,
     },
     /// Logger gaps leave no stretch long enough.
@@ -148,7 +148,7 @@ pub enum DataProblem {
     /// The axis hardly moves.
     #[error("no motion to diagnose: the position spans {stroke_m:.3e} m and the axis moves faster than 0.1 mm/s in {moving} of {samples} samples")]
     NoMotion {
-        /// Position span [m].
+        /// Position span \[m\].
         stroke_m: f64,
         /// Samples moving faster than 0.1 mm/s.
         moving: usize,

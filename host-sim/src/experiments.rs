@@ -13,7 +13,7 @@
 use crate::plant::{Measurement, Plant, PlantConfig, SensorConfig, Sensors};
 use crate::record::Record;
 
-/// Control period [s].
+/// Control period \[s\].
 pub const PERIOD_S: f64 = 1e-3;
 
 /// Valve command per velocity, approximate full-opening speed [m/s] of the default axis.
@@ -23,21 +23,21 @@ const FULL_OPENING_SPEED: f64 = 0.6;
 const POSITION_GAIN: f64 = 40.0 / FULL_OPENING_SPEED;
 /// Force loop gain [1/N].
 const FORCE_GAIN: f64 = 4e-6;
-/// Force loop integral time [s]: the integral cancels the internal leakage, which otherwise
+/// Force loop integral time \[s\]: the integral cancels the internal leakage, which otherwise
 /// holds a steady force error of ~170 N at a closed valve.
 const FORCE_INTEGRAL_S: f64 = 0.05;
 
 /// What the loop regulates at each tick.
 #[derive(Clone, Copy, Debug)]
 pub enum Setpoint {
-    /// Position [m] and its velocity [m/s].
+    /// Position \[m\] and its velocity [m/s].
     Position {
-        /// Reference position [m].
+        /// Reference position \[m\].
         x: f64,
         /// Reference velocity [m/s] (feed-forward).
         v: f64,
     },
-    /// Actuator force [N].
+    /// Actuator force \[N\].
     Force(f64),
 }
 
@@ -54,7 +54,7 @@ pub struct Rig {
 }
 
 impl Rig {
-    /// A rig at rest at `x0` [m].
+    /// A rig at rest at `x0` \[m\].
     pub fn new(config: PlantConfig, sensors: SensorConfig, x0: f64) -> Self {
         let mut rec = Record {
             x_ref: Some(Vec::new()),
@@ -78,7 +78,7 @@ impl Rig {
         }
     }
 
-    /// Actuator force from measured pressures [N].
+    /// Actuator force from measured pressures \[N\].
     pub fn measured_force(&self, m: &Measurement) -> f64 {
         let c = &self.plant.config.cylinder;
         m.p_a * c.piston_area_m2 - m.p_b * c.annulus_area_m2
@@ -248,7 +248,7 @@ pub fn sinusoid(
 /// reach the top speed).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Move {
-    /// Distance [m] (> 0).
+    /// Distance \[m\] (> 0).
     pub distance: f64,
     /// Acceleration [m/s^2].
     pub accel: f64,
@@ -258,7 +258,7 @@ pub struct Move {
 }
 
 impl Move {
-    /// A move over `distance` [m] at up to `v_max` [m/s] with `accel` [m/s^2].
+    /// A move over `distance` \[m\] at up to `v_max` [m/s] with `accel` [m/s^2].
     pub fn new(distance: f64, v_max: f64, accel: f64) -> Self {
         let t_acc = v_max / accel;
         let d_acc = 0.5 * accel * t_acc * t_acc;
@@ -277,12 +277,12 @@ impl Move {
         }
     }
 
-    /// Duration [s].
+    /// Duration \[s\].
     pub fn duration(&self) -> f64 {
         2.0 * self.t_acc + self.t_flat
     }
 
-    /// (position from the start [m], velocity [m/s]) at time `s` into the move.
+    /// (position from the start \[m\], velocity [m/s]) at time `s` into the move.
     pub fn at(&self, s: f64) -> (f64, f64) {
         let (a, t_acc, t_move) = (self.accel, self.t_acc, self.duration());
         if s < t_acc {

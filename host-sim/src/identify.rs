@@ -80,9 +80,9 @@ pub struct IdentData {
     pub points: Vec<SteadyPoint>,
     /// Dynamic stage: mean velocity per period [m/s].
     pub velocity: Vec<f64>,
-    /// Dynamic stage: friction force [N].
+    /// Dynamic stage: friction force \[N\].
     pub force: Vec<f64>,
-    /// Sample period [s].
+    /// Sample period \[s\].
     pub dt: f64,
 }
 
@@ -91,7 +91,7 @@ pub fn sweep_speeds() -> Vec<f64> {
     experiments::log_speeds(5e-4, 0.1, 12)
 }
 
-/// Prescribed displacement of the ideal dynamic experiment [m]: a 100 Hz micro-oscillation
+/// Prescribed displacement of the ideal dynamic experiment \[m\]: a 100 Hz micro-oscillation
 /// whose amplitude grows linearly from 0 to 0.15 um over 1 s, so the axis stays in pre-sliding
 /// (peak friction 448 N < Fs) from the linear to the hysteretic regime.
 ///
@@ -349,7 +349,7 @@ pub struct RunResult {
     pub evaluations: usize,
     /// See the module docs.
     pub evaluations_to_1pct: Option<usize>,
-    /// Wall time [s].
+    /// Wall time \[s\].
     pub wall_s: f64,
     /// `evaluations_to_1pct` per stage (static, dynamic).
     #[serde(skip)]

@@ -37,9 +37,9 @@ pub struct LugreSection {
     pub bristle_damping_n_s_per_m: f64,
     /// sigma2 [N s/m].
     pub viscous_coefficient_n_s_per_m: f64,
-    /// Fc [N].
+    /// Fc \[N\].
     pub coulomb_force_n: f64,
-    /// Fs [N].
+    /// Fs \[N\].
     pub static_force_n: f64,
     /// vs [m/s].
     pub stribeck_velocity_m_per_s: f64,
@@ -49,7 +49,7 @@ pub struct LugreSection {
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct AxisSection {
-    /// Moving mass M [kg].
+    /// Moving mass M \[kg\].
     pub moving_mass_kg: f64,
 }
 
@@ -105,7 +105,7 @@ mod tables {
         /// half the stroke the cosine terms span (absent: no cosine terms)
         #[serde(default, skip_serializing_if = "Option::is_none")]
         pub half_span_m: Option<f64>,
-        /// the cosine terms c_1.. [N] (at most 4)
+        /// the cosine terms c_1.. \[N\] (at most 4)
         #[serde(default, skip_serializing_if = "Vec::is_empty")]
         pub cosine_n: Vec<f64>,
     }

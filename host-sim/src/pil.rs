@@ -38,7 +38,7 @@ pub struct Session {
     pub qemu: String,
     /// The friction model and mass the firmware was built with (its parameter file).
     pub model: FrictionModel<f32>,
-    /// Moving mass of that file [kg].
+    /// Moving mass of that file \[kg\].
     pub mass_kg: f64,
     /// Scenario name (`low_speed` or `drift`).
     pub scenario: String,
@@ -46,7 +46,7 @@ pub struct Session {
     pub seed: u64,
     /// Hurt the link on purpose and check the answers.
     pub inject: bool,
-    /// Run only this long instead of the whole scenario [s].
+    /// Run only this long instead of the whole scenario \[s\].
     pub seconds: Option<f64>,
     /// Raise the plant's friction levels (Fc, Fs, sigma2) by this fraction at
     /// [`RISE_AT_S`] (wear, contamination), in both runs: the health monitor must warn.
@@ -56,7 +56,7 @@ pub struct Session {
     pub settings: Option<LugreParams<f32>>,
 }
 
-/// When `settings` are sent [s].
+/// When `settings` are sent \[s\].
 pub const SETTINGS_AT_S: f64 = 5.0;
 
 /// What became of the settings sent, and how the valve moved around them.
@@ -73,10 +73,10 @@ pub struct SettingsCheck {
     pub host_valve_step_after: f32,
 }
 
-/// When `friction_rise` steps the plant's friction up [s].
+/// When `friction_rise` steps the plant's friction up \[s\].
 pub const RISE_AT_S: f64 = 8.0;
 
-/// The faults injected, and when [s].
+/// The faults injected, and when \[s\].
 #[derive(Clone, Copy, Debug)]
 pub struct Injection;
 
@@ -87,7 +87,7 @@ impl Injection {
     pub const DROP_AT_S: f64 = 7.0;
     /// The host stops for [`Self::STALL_WALL_S`] of wall time before this period's frame.
     pub const STALL_AT_S: f64 = 10.0;
-    /// Length of the stall in wall-clock time [s]. The emulated MCU counts virtual time
+    /// Length of the stall in wall-clock time \[s\]. The emulated MCU counts virtual time
     /// (one nanosecond per instruction under `-icount shift=0`), and its polling loop, with an
     /// emulated register read per pass, covers its 5 ms timeout in well under this.
     pub const STALL_WALL_S: f64 = 2.0;
@@ -109,17 +109,17 @@ pub struct FaultCheck {
 pub struct Report {
     /// Scenario.
     pub scenario: String,
-    /// Tracking RMS error of the firmware's loop (true position) [m].
+    /// Tracking RMS error of the firmware's loop (true position) \[m\].
     pub rms_err_m: f64,
-    /// The same scenario and controller run on the host [m].
+    /// The same scenario and controller run on the host \[m\].
     pub host_rms_err_m: f64,
     /// Mean instructions of the controller tick.
     pub tick_instructions_mean: f64,
     /// Largest instructions of a tick.
     pub tick_instructions_worst: u32,
-    /// Flash the firmware occupies (text, rodata, data initialisers, vectors) [bytes].
+    /// Flash the firmware occupies (text, rodata, data initialisers, vectors) \[bytes\].
     pub flash_bytes: u64,
-    /// Static RAM (data, bss) [bytes].
+    /// Static RAM (data, bss) \[bytes\].
     pub ram_bytes: u64,
     /// The firmware reported running the model of the parameter file given here.
     pub params_from_file: bool,
@@ -133,9 +133,9 @@ pub struct Report {
     pub health_ratio: f32,
     /// Any period with the health warning.
     pub health_warned: bool,
-    /// When the firmware first reported the health warning [s] (None: never).
+    /// When the firmware first reported the health warning \[s\] (None: never).
     pub first_health_warning_s: Option<f64>,
-    /// The same on the host run [s].
+    /// The same on the host run \[s\].
     pub host_first_health_warning_s: Option<f64>,
     /// The injected link faults and the firmware's answers (with --inject-faults).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -143,7 +143,7 @@ pub struct Report {
     /// The settings sent (with --send-params) and the firmware's answer.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub settings: Option<SettingsCheck>,
-    /// Wall time of the session [s].
+    /// Wall time of the session \[s\].
     pub wall_s: f64,
 }
 
@@ -151,7 +151,7 @@ fn pil(msg: impl Into<String>) -> Error {
     Error::Pil(msg.into())
 }
 
-/// A reference trajectory: time [s] -> position [m], velocity [m/s], acceleration [m/s^2].
+/// A reference trajectory: time \[s\] -> position \[m\], velocity [m/s], acceleration [m/s^2].
 type Trajectory = fn(f64) -> (f64, f64, f64);
 
 /// The scenario's reference and duration.

@@ -5,8 +5,8 @@
 //! t,x,force,v,x_ref,p_a,p_b,temp
 //! 0.000,0.100000,512.3,...
 //! ```
-//! SI units: `t` [s], `x` [m], `force` [N] (actuator force) are required; `v` [m/s], `x_ref` [m],
-//! `p_a`, `p_b` [Pa], `temp` [degC] are optional; columns in any order; other columns are kept
+//! SI units: `t` \[s\], `x` \[m\], `force` \[N\] (actuator force) are required; `v` [m/s], `x_ref` \[m\],
+//! `p_a`, `p_b` \[Pa\], `temp` \[degC\] are optional; columns in any order; other columns are kept
 //! as extras when numeric and otherwise ignored. Refused with file, line and column: an empty
 //! file, a missing or duplicated column, a row of the wrong length, a non-numeric, NaN or
 //! infinite cell, time that does not strictly increase, and a file without data rows.
@@ -20,21 +20,21 @@ use std::path::{Path, PathBuf};
 pub struct Record {
     /// `# key=value` metadata, in file order.
     pub meta: Vec<(String, String)>,
-    /// Time [s], strictly increasing.
+    /// Time \[s\], strictly increasing.
     pub t: Vec<f64>,
-    /// Position [m].
+    /// Position \[m\].
     pub x: Vec<f64>,
-    /// Actuator force [N].
+    /// Actuator force \[N\].
     pub force: Vec<f64>,
     /// Velocity [m/s].
     pub v: Option<Vec<f64>>,
-    /// Reference position [m].
+    /// Reference position \[m\].
     pub x_ref: Option<Vec<f64>>,
-    /// Chamber A pressure [Pa].
+    /// Chamber A pressure \[Pa\].
     pub p_a: Option<Vec<f64>>,
-    /// Chamber B pressure [Pa].
+    /// Chamber B pressure \[Pa\].
     pub p_b: Option<Vec<f64>>,
-    /// Oil temperature [degC].
+    /// Oil temperature \[degC\].
     pub temp: Option<Vec<f64>>,
     /// Other numeric columns, by name (e.g. simulator truth signals).
     pub extra: Vec<(String, Vec<f64>)>,
@@ -85,7 +85,7 @@ impl Record {
         self.t.is_empty()
     }
 
-    /// Median sample period [s] (0 for fewer than 2 samples).
+    /// Median sample period \[s\] (0 for fewer than 2 samples).
     pub fn sample_period(&self) -> f64 {
         let mut d: Vec<f64> = self.t.windows(2).map(|w| w[1] - w[0]).collect();
         if d.is_empty() {

@@ -31,7 +31,7 @@ use lugre_servo::friction::{EffectKind, FrictionModel, LugreParams};
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Band within which a point-to-point move counts as settled: 0.1 % of the 20 mm move [m].
+/// Band within which a point-to-point move counts as settled: 0.1 % of the 20 mm move \[m\].
 pub const SETTLE_BAND_M: f64 = 20e-6;
 
 /// The scenarios.
@@ -46,9 +46,9 @@ pub enum Scenario {
     Creep,
 }
 
-/// Move length [m], move time [s] and dwell [s] of `point_to_point`.
+/// Move length \[m\], move time \[s\] and dwell \[s\] of `point_to_point`.
 const P2P: (f64, f64, f64) = (0.02, 1.5, 1.5);
-/// Creep speed [m/s], time each way [s], acceleration ramp [s].
+/// Creep speed [m/s], time each way \[s\], acceleration ramp \[s\].
 const CREEP: (f64, f64, f64) = (5e-4, 10.0, 0.2);
 
 impl Scenario {
@@ -64,7 +64,7 @@ impl Scenario {
         }
     }
 
-    /// Duration [s].
+    /// Duration \[s\].
     pub fn duration_s(self) -> f64 {
         match self {
             Self::LowSpeed => 20.0,
@@ -174,13 +174,13 @@ pub struct Case {
     pub config: String,
     /// Scenario name.
     pub scenario: String,
-    /// RMS of `x_ref - x` after the first 0.5 s [m].
+    /// RMS of `x_ref - x` after the first 0.5 s \[m\].
     pub rms_err_m: f64,
-    /// Largest |error| [m].
+    /// Largest |error| \[m\].
     pub max_err_m: f64,
-    /// Largest |error| within 0.3 s after a reversal of the reference [m].
+    /// Largest |error| within 0.3 s after a reversal of the reference \[m\].
     pub reversal_err_m: f64,
-    /// Mean settling time after a move [s] (point_to_point; `None` elsewhere or never).
+    /// Mean settling time after a move \[s\] (point_to_point; `None` elsewhere or never).
     pub settle_s: Option<f64>,
     /// Periods that raised a fault flag.
     pub fault_ticks: usize,
@@ -254,7 +254,7 @@ pub fn identified(plant: &PlantConfig, seed: u64) -> LugreParams<f64> {
     identify::params_of(&r).unwrap_or_else(LugreParams::table2)
 }
 
-/// Mean settling time of the point-to-point moves in `run` [s]: from the end of each move
+/// Mean settling time of the point-to-point moves in `run` \[s\]: from the end of each move
 /// until the error stays within [`SETTLE_BAND_M`] for the rest of its dwell; `None` when a
 /// move never does.
 pub fn settle_time(run: &Run) -> Option<f64> {

@@ -24,9 +24,9 @@ use std::ops::Range;
 
 /// An interval longer than this many median intervals splits the record.
 pub const GAP_PERIODS: f64 = 5.0;
-/// Segments shorter than this are dropped [samples].
+/// Segments shorter than this are dropped \[samples\].
 pub const MIN_SEGMENT_SAMPLES: usize = 50;
-/// Slowest sample rate accepted [Hz].
+/// Slowest sample rate accepted \[Hz\].
 pub const MIN_RATE_HZ: f64 = 20.0;
 /// Intervals within this fraction of the median count as regular.
 const REGULAR_TOLERANCE: f64 = 0.05;
@@ -36,7 +36,7 @@ const REGULAR_TOLERANCE: f64 = 0.05;
 pub struct Uniform {
     /// The samples (time stamps jump between segments; uniform within each).
     pub record: Record,
-    /// Grid period [s].
+    /// Grid period \[s\].
     pub period_s: f64,
     /// The segments, as index ranges into `record`.
     pub segments: Vec<Range<usize>>,

@@ -20,17 +20,17 @@ use lugre_servo::control::{Controller, ControllerConfig, Features, Measurements,
 use lugre_servo::friction::FrictionModel;
 use serde::Serialize;
 
-/// Time [s] and tracking error [m] per control period.
+/// Time \[s\] and tracking error \[m\] per control period.
 pub type ErrorTrace = Vec<(f64, f64)>;
 
 /// Tracking figures of one run.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Tracking {
-    /// RMS error [m].
+    /// RMS error \[m\].
     pub rms_err_m: f64,
-    /// Maximum |error| [m].
+    /// Maximum |error| \[m\].
     pub max_err_m: f64,
-    /// Largest |error| within 0.3 s after a reversal [m].
+    /// Largest |error| within 0.3 s after a reversal \[m\].
     pub reversal_err_m: f64,
 }
 
@@ -39,7 +39,7 @@ pub struct Tracking {
 pub struct Run {
     /// Figures.
     pub tracking: Tracking,
-    /// Time [s] and error [m] per period.
+    /// Time \[s\] and error \[m\] per period.
     pub trace: Vec<(f64, f64)>,
     /// The valve command per period [-].
     pub valve_command: Vec<f32>,
@@ -47,9 +47,9 @@ pub struct Run {
     pub final_model: FrictionModel<f32>,
     /// Periods that raised a fault flag.
     pub fault_ticks: usize,
-    /// Oil temperature at the end [degC].
+    /// Oil temperature at the end \[degC\].
     pub final_temperature_c: f64,
-    /// When the friction health monitor first warned [s] (None: never).
+    /// When the friction health monitor first warned \[s\] (None: never).
     pub first_health_warning_s: Option<f64>,
 }
 

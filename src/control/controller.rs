@@ -79,15 +79,15 @@ impl Features {
 pub struct ControllerConfig {
     /// Identified friction model.
     pub model: FrictionModel<f32>,
-    /// Moving mass M [kg].
+    /// Moving mass M \[kg\].
     pub mass_kg: f32,
     /// Piston-side area A_a [m^2].
     pub piston_area_m2: f32,
     /// Rod-side area A_b [m^2].
     pub annulus_area_m2: f32,
-    /// Position range [m] (outside it, plus margin, is a fault).
+    /// Position range \[m\] (outside it, plus margin, is a fault).
     pub stroke_m: [f32; 2],
-    /// Pressure transducer range [Pa].
+    /// Pressure transducer range \[Pa\].
     pub pressure_range_pa: [f32; 2],
     /// Largest reference speed the axis may be asked for [m/s] (beyond: a fault).
     pub max_speed_m_per_s: f32,
@@ -101,9 +101,9 @@ pub struct ControllerConfig {
     pub blend_speed: f32,
     /// Maximum observer weight [-].
     pub blend_max: f32,
-    /// Disturbance observer's filter cut-off f_Q [Hz] (see [`super::dob`]).
+    /// Disturbance observer's filter cut-off f_Q \[Hz\] (see [`super::dob`]).
     pub dob_cutoff_hz: f32,
-    /// The residual observer's filter cut-off [Hz].
+    /// The residual observer's filter cut-off \[Hz\].
     pub residual_cutoff_hz: f32,
     /// Reference speed at which the residual observer's weight has fallen to a half, as a
     /// fraction of the model's Stribeck velocity [-].
@@ -118,14 +118,14 @@ pub struct ControllerConfig {
     pub supervisor: SupervisorConfig,
     /// Friction health monitor settings (see [`super::health`]).
     pub health: HealthConfig,
-    /// Control period [s].
+    /// Control period \[s\].
     pub period_s: f32,
     /// Periods over which new friction parameters ([`Controller::set_friction`]) are ramped
     /// in, so the compensation and the valve command do not jump (0: at once).
     pub settings_ramp_periods: u32,
 }
 
-/// The disturbance observer's cut-off by the tuning rule of [`super::dob`] [Hz].
+/// The disturbance observer's cut-off by the tuning rule of [`super::dob`] \[Hz\].
 pub const DOB_CUTOFF_HZ: f32 = 400.0;
 
 impl ControllerConfig {
@@ -183,20 +183,20 @@ impl ControllerConfig {
 /// One period's measurements.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Measurements {
-    /// Encoder position [m].
+    /// Encoder position \[m\].
     pub position_m: f32,
-    /// Chamber A pressure [Pa].
+    /// Chamber A pressure \[Pa\].
     pub pressure_a_pa: f32,
-    /// Chamber B pressure [Pa].
+    /// Chamber B pressure \[Pa\].
     pub pressure_b_pa: f32,
-    /// Oil temperature [degC], if measured.
+    /// Oil temperature \[degC\], if measured.
     pub temperature_c: Option<f32>,
 }
 
 /// One period's reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Reference {
-    /// Position [m].
+    /// Position \[m\].
     pub position_m: f32,
     /// Velocity [m/s].
     pub velocity_m_per_s: f32,
@@ -209,15 +209,15 @@ pub struct Reference {
 pub struct Output {
     /// Valve command in [-1, 1] (0 = null, the safe state).
     pub valve_command: f32,
-    /// Force demand [N].
+    /// Force demand \[N\].
     pub force_demand_n: f32,
-    /// Friction compensation used [N].
+    /// Friction compensation used \[N\].
     pub friction_compensation_n: f32,
-    /// Feed-forward friction [N].
+    /// Feed-forward friction \[N\].
     pub friction_feedforward_n: f32,
-    /// Observer friction [N] (the LuGre observer's, or the disturbance observer's).
+    /// Observer friction \[N\] (the LuGre observer's, or the disturbance observer's).
     pub friction_observer_n: f32,
-    /// What the residual observer added to the model's compensation [N].
+    /// What the residual observer added to the model's compensation \[N\].
     pub friction_residual_n: f32,
     /// Fault flags of this period.
     pub faults: Faults,
@@ -681,8 +681,8 @@ impl Controller {
         true
     }
 
-    /// The friction compensation [N] into `out` (with its parts), by the enabled features;
-    /// returns the actuator force measured from the chamber pressures [N].
+    /// The friction compensation \[N\] into `out` (with its parts), by the enabled features;
+    /// returns the actuator force measured from the chamber pressures \[N\].
     fn compensate(&mut self, m: &Measurements, r: &Reference, out: &mut Output) -> f32 {
         let c = self.config;
         let h = c.period_s;

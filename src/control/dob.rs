@@ -14,24 +14,24 @@
 //! friction faster but passes more of the acceleration estimate's noise into the force
 //! demand, and with stiction it can hunt.
 
-/// The cut-offs the tuning rule tries [Hz].
+/// The cut-offs the tuning rule tries \[Hz\].
 pub const TUNING_GRID_HZ: [f32; 8] = [2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 400.0];
 
 /// Disturbance observer state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DisturbanceObserver {
-    /// Disturbance estimate `d_hat` [N].
+    /// Disturbance estimate `d_hat` \[N\].
     pub estimate_n: f32,
 }
 
 impl DisturbanceObserver {
-    /// The filter's step gain `1 - exp(-2 pi f_Q h)` for cut-off `cutoff_hz` [Hz] and period
-    /// `period_s` [s]: computed once per configuration, not every period.
+    /// The filter's step gain `1 - exp(-2 pi f_Q h)` for cut-off `cutoff_hz` \[Hz\] and period
+    /// `period_s` \[s\]: computed once per configuration, not every period.
     pub fn gain(cutoff_hz: f32, period_s: f32) -> f32 {
         1.0 - libm::expf(-2.0 * core::f32::consts::PI * cutoff_hz * period_s)
     }
 
-    /// One period: measured actuator force [N], mass [kg], estimated acceleration [m/s^2],
+    /// One period: measured actuator force \[N\], mass \[kg\], estimated acceleration [m/s^2],
     /// the step gain of [`Self::gain`]. Returns the new estimate; a non-finite input leaves it
     /// unchanged.
     pub fn update(

@@ -37,7 +37,7 @@ impl Default for EstimatorConfig {
 /// Filter state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Estimator {
-    /// Filtered position [m].
+    /// Filtered position \[m\].
     pub position: f32,
     /// Velocity [m/s].
     pub velocity: f32,
@@ -49,7 +49,7 @@ pub struct Estimator {
 }
 
 impl Estimator {
-    /// Starts at rest at `x` [m].
+    /// Starts at rest at `x` \[m\].
     pub fn reset(&mut self, x: f32) {
         *self = Self {
             position: x,
@@ -58,7 +58,7 @@ impl Estimator {
         };
     }
 
-    /// One update with the measured position `x` [m] after `h` seconds.
+    /// One update with the measured position `x` \[m\] after `h` seconds.
     pub fn update(&mut self, c: &EstimatorConfig, x: f32, h: f32) {
         if !self.initialised {
             self.reset(x);

@@ -18,7 +18,7 @@
 //! move's Coulomb force through a whole dwell, the position integral wound up against it, and
 //! the next move started with a kick (point-to-point moves ran up to 80 um ahead).
 
-/// Time constant of the bristle relaxation while the reference is at rest [s].
+/// Time constant of the bristle relaxation while the reference is at rest \[s\].
 pub const REST_RELAXATION_S: f32 = 0.05;
 
 use crate::friction::{Conditions, FrictionModel, FrictionState};
@@ -28,13 +28,13 @@ use crate::friction::{Conditions, FrictionModel, FrictionState};
 pub struct Feedforward {
     /// Model state along the reference.
     pub state: FrictionState<f32>,
-    /// Predicted friction [N].
+    /// Predicted friction \[N\].
     pub force: f32,
 }
 
 impl Feedforward {
     /// The bristle relaxation factor per period at rest, `exp(-h / REST_RELAXATION_S)` for
-    /// period `h` [s]: computed once per configuration.
+    /// period `h` \[s\]: computed once per configuration.
     pub fn rest_decay(period_s: f32) -> f32 {
         libm::expf(-period_s / REST_RELAXATION_S)
     }

@@ -132,7 +132,7 @@ impl HealthMonitor {
 
     /// One sample. `sliding` says whether the axis slides steadily (see the module docs);
     /// `measured_n` is `F_actuator - M a` and `model_n` the model's steady-state friction at the
-    /// same velocity [N]. Non-finite inputs are skipped.
+    /// same velocity \[N\]. Non-finite inputs are skipped.
     pub fn update(
         &mut self,
         c: &HealthConfig,

@@ -18,15 +18,15 @@ use crate::friction::{Conditions, FrictionModel, FrictionState};
 /// Observer state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Observer {
-    /// Estimated bristle state (z^ [m]).
+    /// Estimated bristle state (z^ \[m\]).
     pub state: FrictionState<f32>,
-    /// Estimated friction force F^ [N].
+    /// Estimated friction force F^ \[N\].
     pub force: f32,
 }
 
 impl Observer {
     /// One step: `mean_velocity` [m/s] over the period, `velocity` [m/s] now, tracking error
-    /// `error` [m], gain `k` [1/s]. Returns false (and resets) on divergence.
+    /// `error` \[m\], gain `k` [1/s]. Returns false (and resets) on divergence.
     pub fn update(
         &mut self,
         model: &FrictionModel<f32>,

@@ -43,7 +43,7 @@ pub struct Cascade {
 /// One cascade evaluation's terms.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CascadeOut {
-    /// Force demand [N].
+    /// Force demand \[N\].
     pub force_demand: f32,
     /// Valve command in [-1, 1].
     pub command: f32,

@@ -96,7 +96,7 @@ impl Refiner {
         *self = Self::new(self.nominal);
     }
 
-    /// One sample: measured friction `y` [N], velocity [m/s], acceleration [m/s^2], `vs` [m/s].
+    /// One sample: measured friction `y` \[N\], velocity [m/s], acceleration [m/s^2], `vs` [m/s].
     /// Returns true if the estimate was updated.
     pub fn update(&mut self, c: &RefineConfig, y: f32, v: f32, a: f32, vs: f32) -> bool {
         let d = if v >= 0.0 { 1.0 } else { -1.0 };

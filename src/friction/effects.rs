@@ -30,7 +30,7 @@ pub struct Asymmetry<T> {
 /// A constant external force.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Offset<T> {
-    /// `F0` [N], resisting +x motion when positive.
+    /// `F0` \[N\], resisting +x motion when positive.
     pub force: T,
 }
 
@@ -39,7 +39,7 @@ pub struct Offset<T> {
 pub struct LoadDependence<T> {
     /// `k` [N/Pa].
     pub coefficient: T,
-    /// `p_ref` [Pa]: the pressure sum at which the base Fc, Fs hold.
+    /// `p_ref` \[Pa\]: the pressure sum at which the base Fc, Fs hold.
     pub reference_pressure_sum: T,
 }
 
@@ -59,11 +59,11 @@ pub const POSITION_TERMS: usize = 4;
 pub struct PositionDependence<T> {
     /// `k_x` [N/m].
     pub gradient: T,
-    /// `x_c` [m]: the position at which the base Fc, Fs hold (without cosine terms).
+    /// `x_c` \[m\]: the position at which the base Fc, Fs hold (without cosine terms).
     pub center: T,
-    /// `L` [m] > 0: half the stroke the cosine series spans.
+    /// `L` \[m\] > 0: half the stroke the cosine series spans.
     pub half_span: T,
-    /// `c_j` [N]: the cosine terms; only the first `terms` are used.
+    /// `c_j` \[N\]: the cosine terms; only the first `terms` are used.
     pub cosine: [T; POSITION_TERMS],
     /// `n`: number of cosine terms in use (0..=[`POSITION_TERMS`]).
     pub terms: usize,
@@ -102,7 +102,7 @@ impl<T: Float> PositionDependence<T> {
         out
     }
 
-    /// The level shift `dF(x)` [N].
+    /// The level shift `dF(x)` \[N\].
     pub fn shift(&self, x: T) -> T {
         if self.terms == 0 {
             return self.gradient * (x - self.center);
@@ -110,7 +110,7 @@ impl<T: Float> PositionDependence<T> {
         self.shift_from(x, &self.basis(x))
     }
 
-    /// The level shift `dF(x)` [N] from an already evaluated [`Self::basis`] at `x` (a fit that
+    /// The level shift `dF(x)` \[N\] from an already evaluated [`Self::basis`] at `x` (a fit that
     /// needs the basis for its regressors evaluates it once).
     pub fn shift_from(&self, x: T, basis: &[T; POSITION_TERMS]) -> T {
         let mut d = self.gradient * (x - self.center);
@@ -128,7 +128,7 @@ pub struct TemperatureDependence<T> {
     pub viscous_per_kelvin: T,
     /// `k_c` [1/K]: Coulomb level change per kelvin.
     pub coulomb_per_kelvin: T,
-    /// `T_ref` [degC]: the temperature at which the base parameters hold.
+    /// `T_ref` \[degC\]: the temperature at which the base parameters hold.
     pub reference_temperature: T,
 }
 
@@ -151,9 +151,9 @@ pub struct ViscousPower<T> {
 /// Breakaway force that grows with time at rest.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DwellStiction<T> {
-    /// `dF` [N]: the increase of Fs after a long dwell.
+    /// `dF` \[N\]: the increase of Fs after a long dwell.
     pub max_increase: T,
-    /// `tau` [s] > 0.
+    /// `tau` \[s\] > 0.
     pub time_constant: T,
     /// Below this speed [m/s] the axis counts as stuck and the dwell timer runs.
     pub stick_velocity: T,
@@ -277,11 +277,11 @@ impl std::error::Error for UnknownEffect {}
 /// Operating conditions some effects depend on.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Conditions<T> {
-    /// Piston position x [m].
+    /// Piston position x \[m\].
     pub position: T,
-    /// Chamber pressure sum `p_a + p_b` [Pa].
+    /// Chamber pressure sum `p_a + p_b` \[Pa\].
     pub pressure_sum: T,
-    /// Oil temperature [degC].
+    /// Oil temperature \[degC\].
     pub temperature: T,
 }
 

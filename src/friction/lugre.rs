@@ -28,7 +28,7 @@ use crate::math::{self, ModelFloat};
 /// Result of one exact step of the bristle equation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BristleStep<T> {
-    /// Deflection at the end of the step, z [m].
+    /// Deflection at the end of the step, z \[m\].
     pub deflection: T,
     /// Deflection rate at the end of the step, dz/dt [m/s].
     pub deflection_rate: T,
@@ -36,7 +36,7 @@ pub struct BristleStep<T> {
 
 /// Exact zero-order-hold step of `dz/dt = v - sigma0 |v| z / g` over `dt` seconds.
 ///
-/// `g` is the Stribeck level [N] (clamped to a tiny positive value), `sigma0` [N/m].
+/// `g` is the Stribeck level \[N\] (clamped to a tiny positive value), `sigma0` [N/m].
 pub fn bristle_step<T: ModelFloat>(z: T, velocity: T, sigma0: T, g: T, dt: T) -> BristleStep<T> {
     driven_bristle_step(z, velocity, velocity, sigma0, g, dt)
 }
@@ -85,7 +85,7 @@ pub fn driven_bristle_step<T: ModelFloat>(
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LugreState<T> {
-    /// Average bristle deflection z [m].
+    /// Average bristle deflection z \[m\].
     pub z: T,
 }
 
@@ -95,7 +95,7 @@ impl<T: ModelFloat> LugreState<T> {
         Self { z: T::zero() }
     }
 
-    /// Advances by `dt` [s] with `velocity` [m/s] held, returns the friction force [N] at the
+    /// Advances by `dt` \[s\] with `velocity` [m/s] held, returns the friction force \[N\] at the
     /// end of the step: `sigma0 z + sigma1 dz/dt + sigma2 v`.
     pub fn step(&mut self, params: &super::LugreParams<T>, velocity: T, dt: T) -> T {
         let s = bristle_step(

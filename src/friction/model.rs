@@ -10,9 +10,9 @@ use num_traits::Float;
 /// Friction levels in force at the current conditions.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Levels<T> {
-    /// Effective Coulomb force [N].
+    /// Effective Coulomb force \[N\].
     pub coulomb: T,
-    /// Effective static force [N] (>= coulomb).
+    /// Effective static force \[N\] (>= coulomb).
     pub static_: T,
     /// Effective viscous coefficient [N s/m].
     pub viscous: T,
@@ -21,9 +21,9 @@ pub struct Levels<T> {
 /// Mutable state of a [`FrictionModel`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrictionState<T> {
-    /// Bristle deflection z [m].
+    /// Bristle deflection z \[m\].
     pub z: T,
-    /// Time spent stuck before the current motion [s] (only used by `dwell_stiction`).
+    /// Time spent stuck before the current motion \[s\] (only used by `dwell_stiction`).
     pub dwell_time: T,
     /// Bristle deflection rate dz/dt at the end of the last step [m/s] (what `sigma1`
     /// multiplies; kept so an identification can regress on it).
@@ -104,7 +104,7 @@ impl<T: ModelFloat> FrictionModel<T> {
         }
     }
 
-    /// Stribeck level `g(v)` [N] for the given levels.
+    /// Stribeck level `g(v)` \[N\] for the given levels.
     pub fn stribeck_curve(&self, velocity: T, l: &Levels<T>) -> T {
         let r = (velocity / self.params.stribeck_velocity()).abs();
         let shape = match self.effects.stribeck_shape {
@@ -114,7 +114,7 @@ impl<T: ModelFloat> FrictionModel<T> {
         l.coulomb + (l.static_ - l.coulomb) * math::decay(shape)
     }
 
-    /// Viscous force [N] for the given levels.
+    /// Viscous force \[N\] for the given levels.
     pub fn viscous_force(&self, velocity: T, l: &Levels<T>) -> T {
         match self.effects.viscous_power {
             Some(p) => {
@@ -130,12 +130,12 @@ impl<T: ModelFloat> FrictionModel<T> {
         }
     }
 
-    /// Constant external force [N] (zero without `offset`).
+    /// Constant external force \[N\] (zero without `offset`).
     pub fn offset_force(&self) -> T {
         self.effects.offset.map_or(T::zero(), |o| o.force)
     }
 
-    /// Steady-state friction at constant velocity (after a long slide: no dwell) [N],
+    /// Steady-state friction at constant velocity (after a long slide: no dwell) \[N\],
     /// including the offset.
     pub fn steady_state_force(&self, velocity: T, c: &Conditions<T>) -> T {
         let l = self.levels(velocity, c, T::zero());
@@ -145,8 +145,8 @@ impl<T: ModelFloat> FrictionModel<T> {
             + self.offset_force()
     }
 
-    /// Advances the state by `dt` [s] with `velocity` [m/s] held (exact zero-order hold of the
-    /// bristle equation, see [`crate::friction::lugre`]), returns the force [N] at the end of
+    /// Advances the state by `dt` \[s\] with `velocity` [m/s] held (exact zero-order hold of the
+    /// bristle equation, see [`crate::friction::lugre`]), returns the force \[N\] at the end of
     /// the step: `sigma0 z + sigma1 dz/dt + F_visc(v) + F0`.
     pub fn step(&self, s: &mut FrictionState<T>, velocity: T, c: &Conditions<T>, dt: T) -> T {
         self.step_split(s, velocity, velocity, c, dt)

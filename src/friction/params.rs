@@ -36,9 +36,9 @@ pub enum ParamField {
     BristleDamping,
     /// sigma2, viscous coefficient [N s/m].
     ViscousCoefficient,
-    /// Fc, Coulomb force [N].
+    /// Fc, Coulomb force \[N\].
     CoulombForce,
-    /// Fs, static (breakaway) force [N].
+    /// Fs, static (breakaway) force \[N\].
     StaticForce,
     /// vs, Stribeck velocity [m/s].
     StribeckVelocity,
@@ -133,8 +133,8 @@ impl<T: Float> LugreParams<T> {
     /// * `bristle_stiffness` sigma0 [N/m], > 0
     /// * `bristle_damping` sigma1 [N s/m], >= 0
     /// * `viscous_coefficient` sigma2 [N s/m], >= 0
-    /// * `coulomb_force` Fc [N], > 0
-    /// * `static_force` Fs [N], >= Fc
+    /// * `coulomb_force` Fc \[N\], > 0
+    /// * `static_force` Fs \[N\], >= Fc
     /// * `stribeck_velocity` vs [m/s], > 0
     pub fn new(
         bristle_stiffness: T,
@@ -234,11 +234,11 @@ impl<T: Float> LugreParams<T> {
     pub fn viscous_coefficient(&self) -> T {
         self.viscous_coefficient
     }
-    /// Fc, Coulomb force [N].
+    /// Fc, Coulomb force \[N\].
     pub fn coulomb_force(&self) -> T {
         self.coulomb_force
     }
-    /// Fs, static (breakaway) force [N].
+    /// Fs, static (breakaway) force \[N\].
     pub fn static_force(&self) -> T {
         self.static_force
     }
@@ -308,13 +308,13 @@ impl<T: Float> LugreParams<T> {
         )
     }
 
-    /// Stribeck curve `g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2)` [N].
+    /// Stribeck curve `g(v) = Fc + (Fs - Fc) exp(-(v/vs)^2)` \[N\].
     pub fn stribeck_curve(&self, velocity: T) -> T {
         let r = velocity / self.stribeck_velocity;
         self.coulomb_force + (self.static_force - self.coulomb_force) * (-(r * r)).exp()
     }
 
-    /// Steady-state friction at constant velocity, `Fss(v) = g(v) sign(v) + sigma2 v` [N]
+    /// Steady-state friction at constant velocity, `Fss(v) = g(v) sign(v) + sigma2 v` \[N\]
     /// (zero at v = 0).
     pub fn steady_state_force(&self, velocity: T) -> T {
         let dir = direction(velocity);

@@ -27,7 +27,7 @@ use crate::friction::{LugreParams, LugreState};
 pub struct SteadyPoint {
     /// Constant velocity [m/s].
     pub velocity: f64,
-    /// Mean friction force at that velocity [N].
+    /// Mean friction force at that velocity \[N\].
     pub force: f64,
 }
 
@@ -69,14 +69,14 @@ pub fn static_cost(values: &[f64; 4], points: &[SteadyPoint]) -> f64 {
 }
 
 /// A recorded dynamic response: mean velocity over each period [m/s] and friction force at
-/// the end of it [N], sampled every `dt` seconds.
+/// the end of it \[N\], sampled every `dt` seconds.
 #[derive(Clone, Copy, Debug)]
 pub struct DynamicRecord<'a> {
     /// Mean velocity over each sample period [m/s].
     pub velocity: &'a [f64],
-    /// Friction force at the end of each period [N].
+    /// Friction force at the end of each period \[N\].
     pub force: &'a [f64],
-    /// Sample period [s].
+    /// Sample period \[s\].
     pub dt: f64,
 }
 

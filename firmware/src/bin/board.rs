@@ -2,7 +2,7 @@
 //!
 //! The same RTIC shape as the self-test: TIM2's update interrupt runs the control period at
 //! the top priority (sample the encoder and the pressures, tick, command the valve, through
-//! [`Stm32Board`], on the STM32F4 HAL); friction health events go to a software task at the
+//! [`Stm32Board`](lugre_servo_firmware::stm32_board::Stm32Board), on the STM32F4 HAL); friction health events go to a software task at the
 //! lowest priority. The model is the parameter file's (build time). Built without the `qemu`
 //! option, for the board's clock tree; not run in CI (in QEMU the HAL's clock setup waits
 //! forever for RCC's ready bits, and QEMU models neither the encoder mode nor the DAC).
@@ -31,7 +31,7 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     }
 }
 
-/// Where the axis is at power-up [m] (a homing routine would set it).
+/// Where the axis is at power-up \[m\] (a homing routine would set it).
 const ORIGIN_M: f32 = 0.25;
 
 #[rtic::app(device = stm32f4xx_hal::pac, peripherals = true, dispatchers = [EXTI0])]

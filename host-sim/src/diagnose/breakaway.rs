@@ -29,14 +29,14 @@
 use super::inverse::{Prepared, STUCK_SPEED};
 use serde::Serialize;
 
-/// The rest test's speed is the position change over this window [s].
+/// The rest test's speed is the position change over this window \[s\].
 pub const REST_SPEED_WINDOW_S: f64 = 0.02;
-/// Shortest rest that counts [s].
+/// Shortest rest that counts \[s\].
 pub const MIN_REST_S: f64 = 0.02;
-/// The breakaway window starts this long before the rest ends [s] (the force ramps while the
+/// The breakaway window starts this long before the rest ends \[s\] (the force ramps while the
 /// bristles deflect below the encoder's resolution).
 pub const PRE_S: f64 = 0.05;
-/// The breakaway window ends this long after the rest ends [s] (or where the next rest starts).
+/// The breakaway window ends this long after the rest ends \[s\] (or where the next rest starts).
 pub const POST_S: f64 = 0.15;
 /// A departure needs the axis to reach this speed within the window [m/s].
 pub const DEPARTURE_SPEED: f64 = 5.0 * STUCK_SPEED;
@@ -55,15 +55,15 @@ pub const DWELL_MIN_PEAK_DBIC: f64 = 2.0;
 pub struct Departure {
     /// Sample where the rest ended.
     pub index: usize,
-    /// Time where the rest ended [s].
+    /// Time where the rest ended \[s\].
     pub time_s: f64,
-    /// How long the axis rested before it [s].
+    /// How long the axis rested before it \[s\].
     pub rest_s: f64,
     /// Direction of the motion that followed (+1 or -1).
     pub direction: f64,
-    /// Breakaway peak of the measured force, signed (`d max d F`) [N].
+    /// Breakaway peak of the measured force, signed (`d max d F`) \[N\].
     pub peak_n: f64,
-    /// Mean measured force over the rest [N].
+    /// Mean measured force over the rest \[N\].
     pub holding_n: f64,
     /// Samples the peak is read over (`[end - PRE_S, end + POST_S]`, cut at the next rest):
     /// a model's peak is read over the same ones.
@@ -88,19 +88,19 @@ pub struct Breakaway {
 /// Breakaway peaks against the rest time before them.
 #[derive(Clone, Debug, Serialize)]
 pub struct DwellTrend {
-    /// Peak level after a short rest, forward and backward (magnitudes) [N].
+    /// Peak level after a short rest, forward and backward (magnitudes) \[N\].
     pub level_n: [f64; 2],
-    /// Growth of the peak from a short to a long rest, `dF` [N].
+    /// Growth of the peak from a short to a long rest, `dF` \[N\].
     pub increase_n: f64,
-    /// Its 95 % half-width [N].
+    /// Its 95 % half-width \[N\].
     pub increase_ci_n: f64,
-    /// Time constant of the growth [s] (grid value).
+    /// Time constant of the growth \[s\] (grid value).
     pub time_constant_s: f64,
     /// Evidence for the growth against constant levels.
     pub delta_bic: f64,
 }
 
-/// Grid of the trend's time constant [s].
+/// Grid of the trend's time constant \[s\].
 const TAU_GRID: [f64; 12] = [
     0.02, 0.04, 0.07, 0.1, 0.15, 0.2, 0.3, 0.5, 0.8, 1.2, 2.0, 4.0,
 ];

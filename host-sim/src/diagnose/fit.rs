@@ -29,11 +29,11 @@ use nalgebra::{DMatrix, DVector};
 /// A linear parameter of the fit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Param {
-    /// Moving mass M [kg].
+    /// Moving mass M \[kg\].
     Mass,
-    /// Fc [N].
+    /// Fc \[N\].
     Coulomb,
-    /// Fs [N].
+    /// Fs \[N\].
     Static,
     /// sigma2 [N s/m].
     Viscous,
@@ -43,17 +43,17 @@ pub enum Param {
     AsymCoulomb,
     /// asymmetry rv [-].
     AsymViscous,
-    /// offset F0 [N].
+    /// offset F0 \[N\].
     Offset,
     /// load_dependence k [N/Pa].
     LoadCoefficient,
     /// position_dependence k_x [N/m].
     PositionGradient,
-    /// position_dependence c_j [N], j = 1.. (the index is j - 1).
+    /// position_dependence c_j \[N\], j = 1.. (the index is j - 1).
     PositionCosine(usize),
     /// temperature_dependence k_c [1/K].
     TempCoulomb,
-    /// dwell_stiction dF [N].
+    /// dwell_stiction dF \[N\].
     DwellIncrease,
 }
 
@@ -98,7 +98,7 @@ pub struct Fit {
     /// The fitted model.
     pub model: AxisModel,
     /// The model's force along the record as the fit scored it (simulated, then filtered like
-    /// the measured force) [N]: kept, so the stage, the regimes and the report use it instead
+    /// the measured force) \[N\]: kept, so the stage, the regimes and the report use it instead
     /// of simulating the model again.
     pub prediction: Vec<f64>,
     /// Relative force error over the samples where the axis moves [%].

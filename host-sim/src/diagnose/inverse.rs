@@ -15,9 +15,9 @@ use lugre_servo::friction::{Conditions, FrictionModel, FrictionState};
 /// Filter settings of the inverse model.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Protocol {
-    /// Zero-phase low-pass on the position before differentiation [Hz].
+    /// Zero-phase low-pass on the position before differentiation \[Hz\].
     pub position_cutoff_hz: f64,
-    /// Zero-phase low-pass applied to every force column [Hz].
+    /// Zero-phase low-pass applied to every force column \[Hz\].
     pub parallel_cutoff_hz: f64,
 }
 
@@ -33,11 +33,11 @@ impl Default for Protocol {
 /// A record made ready for the inverse model.
 #[derive(Clone, Debug)]
 pub struct Prepared {
-    /// Sample period [s].
+    /// Sample period \[s\].
     pub dt: f64,
-    /// Time [s].
+    /// Time \[s\].
     pub t: Vec<f64>,
-    /// Filtered position [m].
+    /// Filtered position \[m\].
     pub x: Vec<f64>,
     /// Velocity (central difference of the filtered position) [m/s].
     pub v: Vec<f64>,
@@ -45,25 +45,25 @@ pub struct Prepared {
     pub a: Vec<f64>,
     /// Mean velocity over the step ending at each sample [m/s] (drives the LuGre step).
     pub v_step: Vec<f64>,
-    /// Measured force after the parallel filter [N].
+    /// Measured force after the parallel filter \[N\].
     pub force: Vec<f64>,
-    /// Chamber pressure signal [Pa]: `p_a + p_b`, or the one chamber recorded.
+    /// Chamber pressure signal \[Pa\]: `p_a + p_b`, or the one chamber recorded.
     pub pressure_sum: Option<Vec<f64>>,
-    /// Oil temperature [degC], if recorded.
+    /// Oil temperature \[degC\], if recorded.
     pub temperature: Option<Vec<f64>>,
     /// The parallel filter.
     pub parallel: LowPass,
     /// 1 where the axis moves (scored), 0 where it is stuck (see [`STUCK_SPEED`]).
     pub weight: Vec<f64>,
-    /// Norm of the filtered measured force over the scored samples, the error's denominator [N].
+    /// Norm of the filtered measured force over the scored samples, the error's denominator \[N\].
     pub force_norm: f64,
-    /// Norm of the filtered measured force over all samples [N].
+    /// Norm of the filtered measured force over all samples \[N\].
     pub force_norm_all: f64,
     /// Stretches of uniform sampling between logger gaps (index ranges; one for most records).
     pub segments: Vec<std::ops::Range<usize>>,
     /// What was done to the record's timing, in words (empty when nothing was).
     pub notes: Vec<String>,
-    /// Largest measured force magnitude, unfiltered [N] (bounds the friction levels).
+    /// Largest measured force magnitude, unfiltered \[N\] (bounds the friction levels).
     pub max_abs_force: f64,
     /// Largest speed of the filtered motion [m/s] (bounds the viscous and damping terms).
     pub max_abs_velocity: f64,
@@ -81,7 +81,7 @@ pub const STUCK_SPEED: f64 = 2e-4;
 /// Samples at each end of a segment left out of the scores (filter edge transients).
 const SEGMENT_EDGE: usize = 5;
 
-/// Minimum record length [samples].
+/// Minimum record length \[samples\].
 pub const MIN_SAMPLES: usize = 500;
 
 impl Prepared {
@@ -274,7 +274,7 @@ impl Prepared {
 /// A model of the axis: mass and friction (with effects).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisModel {
-    /// Moving mass [kg].
+    /// Moving mass \[kg\].
     pub mass_kg: f64,
     /// Friction model.
     pub friction: FrictionModel<f64>,
@@ -283,11 +283,11 @@ pub struct AxisModel {
 /// What the friction model did along the measured motion.
 #[derive(Clone, Debug)]
 pub struct Simulation {
-    /// Friction force [N] (including the offset).
+    /// Friction force \[N\] (including the offset).
     pub friction: Vec<f64>,
     /// Normalised bristle state `s = sigma0 z / g(v)` (+-1 when sliding).
     pub bristle: Vec<f64>,
-    /// Dwell time before the current motion [s].
+    /// Dwell time before the current motion \[s\].
     pub dwell: Vec<f64>,
     /// Bristle deflection rate dz/dt [m/s] (what sigma1 multiplies).
     pub deflection_rate: Vec<f64>,
@@ -323,7 +323,7 @@ impl AxisModel {
         out
     }
 
-    /// Predicted actuator force `M a + F_friction` [N] along the measured motion.
+    /// Predicted actuator force `M a + F_friction` \[N\] along the measured motion.
     pub fn predict(&self, p: &Prepared) -> Vec<f64> {
         let sim = self.simulate(p);
         p.a.iter()

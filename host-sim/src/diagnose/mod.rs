@@ -244,7 +244,7 @@ pub struct Options {
     pub protocol: Protocol,
     /// A model from a parameter file (mass and parameters used as given for the comparison).
     pub given: Option<AxisModel>,
-    /// Mass fixed by the user [kg].
+    /// Mass fixed by the user \[kg\].
     pub mass_kg: Option<f64>,
     /// Effects to add, in order.
     pub add: Vec<String>,
@@ -309,7 +309,7 @@ pub const STRIBECK_TOP_FRACTION: f64 = 1.0 / 3.0;
 /// (the lower end reaches further down on light rigs, see [`bristle_stiffness_range`]).
 pub const BRISTLE_STIFFNESS_RANGE: (f64, f64) = (1e5, 1e10);
 
-/// Longest pre-sliding `F / sigma0` a contact is allowed [m]: an O-ring on a light test rig
+/// Longest pre-sliding `F / sigma0` a contact is allowed \[m\]: an O-ring on a light test rig
 /// deflects a few hundred micrometres before it slides.
 pub const MAX_PRESLIDING_M: f64 = 1e-3;
 
@@ -322,7 +322,7 @@ pub fn bristle_stiffness_range(p: &Prepared) -> (f64, f64) {
     ((p.max_abs_force / MAX_PRESLIDING_M).clamp(1.0, lo), hi)
 }
 
-/// Prior pre-sliding length `Fs / sigma0` [m], used when the record does not determine sigma0.
+/// Prior pre-sliding length `Fs / sigma0` \[m\], used when the record does not determine sigma0.
 pub const PRIOR_PRESLIDING_M: f64 = 10e-6;
 
 /// Prior Stribeck velocity as a fraction of the fastest speed visited, used when the record does

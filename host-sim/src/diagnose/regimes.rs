@@ -11,12 +11,12 @@ pub struct RegimeStat {
     pub name: String,
     /// Samples in the regime.
     pub samples: usize,
-    /// Mean of (measured - model) force [N].
+    /// Mean of (measured - model) force \[N\].
     pub mean_residual_n: f64,
-    /// Mean residual in the sense of friction, `(F - F_hat) sign(v)` [N]: positive means the
+    /// Mean residual in the sense of friction, `(F - F_hat) sign(v)` \[N\]: positive means the
     /// model under-predicts the friction there (moving samples only; 0 when stuck).
     pub friction_bias_n: f64,
-    /// RMS residual [N].
+    /// RMS residual \[N\].
     pub rms_residual_n: f64,
 }
 

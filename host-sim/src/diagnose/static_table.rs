@@ -22,11 +22,11 @@ use serde::Serialize;
 pub struct StaticFit {
     /// "static Coulomb + viscous" or "static asymmetric + offset".
     pub label: &'static str,
-    /// Moving mass [kg].
+    /// Moving mass \[kg\].
     pub mass_kg: f64,
-    /// Coulomb level moving forward (positive velocity) [N].
+    /// Coulomb level moving forward (positive velocity) \[N\].
     pub coulomb_forward_n: f64,
-    /// Coulomb level moving backward [N].
+    /// Coulomb level moving backward \[N\].
     pub coulomb_backward_n: f64,
     /// Viscous coefficient forward [N s/m].
     pub viscous_forward_n_s_per_m: f64,

@@ -21,21 +21,21 @@ pub struct CylinderConfig {
     pub piston_area_m2: f64,
     /// Rod-side annulus area A_b [m^2] (28 mm rod).
     pub annulus_area_m2: f64,
-    /// Stroke L [m].
+    /// Stroke L \[m\].
     pub stroke_m: f64,
     /// Dead volume of chamber A (lines, valve ports) [m^3].
     pub dead_volume_a_m3: f64,
     /// Dead volume of chamber B [m^3].
     pub dead_volume_b_m3: f64,
-    /// Effective oil bulk modulus beta [Pa].
+    /// Effective oil bulk modulus beta \[Pa\].
     pub bulk_modulus_pa: f64,
     /// Internal leakage coefficient C_l [m^3/(s Pa)].
     pub leakage_m3_per_s_pa: f64,
-    /// Moving mass (piston, rod, load) [kg].
+    /// Moving mass (piston, rod, load) \[kg\].
     pub moving_mass_kg: f64,
-    /// Oil vapour pressure (absolute) [Pa].
+    /// Oil vapour pressure (absolute) \[Pa\].
     pub vapour_pressure_pa: f64,
-    /// Relief pressure (absolute) [Pa].
+    /// Relief pressure (absolute) \[Pa\].
     pub relief_pressure_pa: f64,
     /// End stop stiffness [N/m].
     pub end_stop_stiffness_n_per_m: f64,
@@ -76,7 +76,7 @@ impl Cylinder {
         Self { config }
     }
 
-    /// Hydraulic force on the piston [N], positive towards +x.
+    /// Hydraulic force on the piston \[N\], positive towards +x.
     pub fn force(&self, p_a: f64, p_b: f64) -> f64 {
         p_a * self.config.piston_area_m2 - p_b * self.config.annulus_area_m2
     }
@@ -129,7 +129,7 @@ impl Cylinder {
         }
     }
 
-    /// End-stop force [N] (pushes back only).
+    /// End-stop force \[N\] (pushes back only).
     pub fn end_stop_force(&self, x: f64, v: f64) -> f64 {
         let d = self.penetration(x);
         let f = -self.config.end_stop_stiffness_n_per_m * d
@@ -143,7 +143,7 @@ impl Cylinder {
         }
     }
 
-    /// Elastic energy stored in an end stop [J].
+    /// Elastic energy stored in an end stop \[J\].
     pub fn end_stop_energy(&self, x: f64) -> f64 {
         let d = self.penetration(x);
         0.5 * self.config.end_stop_stiffness_n_per_m * d * d

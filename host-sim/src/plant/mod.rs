@@ -34,11 +34,11 @@ pub struct ThermalConfig {
     pub heat_capacity_j_per_k: f64,
     /// Thermal conductance to ambient, G [W/K].
     pub conductance_w_per_k: f64,
-    /// Ambient temperature [degC].
+    /// Ambient temperature \[degC\].
     pub ambient_c: f64,
-    /// Initial oil temperature [degC].
+    /// Initial oil temperature \[degC\].
     pub initial_c: f64,
-    /// Extra heat input, e.g. pump and valve throttling losses [W].
+    /// Extra heat input, e.g. pump and valve throttling losses \[W\].
     pub extra_heat_w: f64,
 }
 
@@ -65,7 +65,7 @@ pub struct PlantConfig {
     pub friction: FrictionModel<f64>,
     /// Oil temperature model.
     pub thermal: ThermalConfig,
-    /// Integration sub-step [s].
+    /// Integration sub-step \[s\].
     pub substep_s: f64,
 }
 
@@ -84,17 +84,17 @@ impl Default for PlantConfig {
 /// True state of the plant (what the sensors look at).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PlantState {
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// Spool position, normalised to [-1, 1].
     pub spool: f64,
     /// Spool velocity [1/s].
     pub spool_rate: f64,
-    /// Chamber A (piston side) absolute pressure [Pa].
+    /// Chamber A (piston side) absolute pressure \[Pa\].
     pub p_a: f64,
-    /// Chamber B (rod side) absolute pressure [Pa].
+    /// Chamber B (rod side) absolute pressure \[Pa\].
     pub p_b: f64,
-    /// Piston position [m], 0 = fully retracted.
+    /// Piston position \[m\], 0 = fully retracted.
     pub x: f64,
     /// Piston velocity [m/s].
     pub v: f64,
@@ -102,20 +102,20 @@ pub struct PlantState {
     pub a: f64,
     /// Friction state.
     pub friction: FrictionState<f64>,
-    /// Friction force at the last sub-step [N] (including the offset force).
+    /// Friction force at the last sub-step \[N\] (including the offset force).
     pub friction_force: f64,
-    /// Oil temperature [degC].
+    /// Oil temperature \[degC\].
     pub temperature_c: f64,
 }
 
 /// Energy bookkeeping, integrated along with the state (for checks and reports).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyLedger {
-    /// Work done by the hydraulic force on the piston [J].
+    /// Work done by the hydraulic force on the piston \[J\].
     pub hydraulic_work_j: f64,
-    /// Work done against friction and offset [J].
+    /// Work done against friction and offset \[J\].
     pub friction_work_j: f64,
-    /// Work done by the end stops [J].
+    /// Work done by the end stops \[J\].
     pub end_stop_work_j: f64,
 }
 
@@ -133,7 +133,7 @@ pub struct Plant {
 }
 
 impl Plant {
-    /// A plant at rest at position `x0` [m], with chamber pressures balanced at rest.
+    /// A plant at rest at position `x0` \[m\], with chamber pressures balanced at rest.
     pub fn new(config: PlantConfig, x0: f64) -> Self {
         let cylinder = Cylinder::new(config.cylinder);
         let valve = ServoValve::new(config.valve);
@@ -163,12 +163,12 @@ impl Plant {
         }
     }
 
-    /// Actuator force `p_a A_a - p_b A_b` [N] (true).
+    /// Actuator force `p_a A_a - p_b A_b` \[N\] (true).
     pub fn actuator_force(&self) -> f64 {
         self.cylinder.force(self.state.p_a, self.state.p_b)
     }
 
-    /// Advances by `duration` [s] with the valve command `u` (normalised, clamped to [-1, 1])
+    /// Advances by `duration` \[s\] with the valve command `u` (normalised, clamped to [-1, 1])
     /// held.
     pub fn advance(&mut self, u: f64, duration: f64) {
         let u = if u.is_finite() {
@@ -234,7 +234,7 @@ impl Plant {
     }
 
     /// Kinetic energy of the moving mass plus the potential energy in the bristles and end
-    /// stops [J].
+    /// stops \[J\].
     pub fn mechanical_energy(&self) -> f64 {
         let m = self.config.cylinder.moving_mass_kg;
         let sigma0 = self.config.friction.params.bristle_stiffness();

@@ -11,13 +11,13 @@ use std::collections::VecDeque;
 /// Sensor models.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SensorConfig {
-    /// Encoder resolution [m] (0: ideal).
+    /// Encoder resolution \[m\] (0: ideal).
     pub encoder_resolution_m: f64,
-    /// Pressure transducer noise, standard deviation [Pa].
+    /// Pressure transducer noise, standard deviation \[Pa\].
     pub pressure_noise_pa: f64,
-    /// Thermometer noise, standard deviation [K].
+    /// Thermometer noise, standard deviation \[K\].
     pub temperature_noise_k: f64,
-    /// Measurement delay [samples].
+    /// Measurement delay \[samples\].
     pub delay_samples: usize,
     /// Noise seed.
     pub seed: u64,
@@ -56,15 +56,15 @@ impl Default for SensorConfig {
 /// One sample as the controller sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Measurement {
-    /// Sample time [s].
+    /// Sample time \[s\].
     pub t: f64,
-    /// Encoder position [m].
+    /// Encoder position \[m\].
     pub x: f64,
-    /// Chamber A pressure [Pa].
+    /// Chamber A pressure \[Pa\].
     pub p_a: f64,
-    /// Chamber B pressure [Pa].
+    /// Chamber B pressure \[Pa\].
     pub p_b: f64,
-    /// Oil temperature [degC].
+    /// Oil temperature \[degC\].
     pub temperature_c: f64,
     /// The true plant state this sample was taken from (for records' truth columns and tests;
     /// a controller must not look at it).

@@ -14,17 +14,17 @@
 /// Servo valve configuration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ValveConfig {
-    /// Spool natural frequency [Hz].
+    /// Spool natural frequency \[Hz\].
     pub natural_frequency_hz: f64,
     /// Spool damping ratio [-].
     pub damping_ratio: f64,
     /// Rated flow at full opening and the rated pressure drop [m^3/s].
     pub rated_flow_m3_per_s: f64,
-    /// Rated total pressure drop across both lands [Pa].
+    /// Rated total pressure drop across both lands \[Pa\].
     pub rated_pressure_drop_pa: f64,
-    /// Supply pressure (absolute) [Pa].
+    /// Supply pressure (absolute) \[Pa\].
     pub supply_pressure_pa: f64,
-    /// Tank pressure (absolute) [Pa].
+    /// Tank pressure (absolute) \[Pa\].
     pub tank_pressure_pa: f64,
 }
 
