@@ -106,10 +106,12 @@ fn generate(path: &str) -> Result<String, String> {
                     n("reference_velocity_m_per_s")? as f32
                 ),
                 "dwell_stiction" => format!(
-                    "dwell_stiction: Some(fx::DwellStiction {{ max_increase: {:?}, time_constant: {:?}, stick_velocity: {:?} }}),",
+                    "dwell_stiction: Some(fx::DwellStiction {{ max_increase: {:?}, time_constant: {:?}, stick_velocity: {:?}, renewal_distance: {:?} }}),",
                     n("max_increase_n")? as f32,
                     n("time_constant_s")? as f32,
-                    n("stick_velocity_m_per_s")? as f32
+                    n("stick_velocity_m_per_s")? as f32,
+                    // files written before session 8 have none: the host's default
+                    f.get("renewal_distance_m").and_then(toml::Value::as_float).unwrap_or(1e-4) as f32
                 ),
                 "position_dependence" => format!(
                     "position_dependence: Some(fx::PositionDependence::linear({:?}, {:?})),",

@@ -39,8 +39,9 @@ struct Row {
     floor_pct: f64,
     /// error of the generator's true model with the hidden effect removed (its visibility) [%]
     without_effect_pct: f64,
-    /// every candidate of the baseline, ranked: (effect, dBIC, error with it [%], detected)
-    candidates: Vec<(String, f64, f64, bool)>,
+    /// every candidate of the baseline, ranked: (effect, dBIC, error with it [%], detected,
+    /// the error cut the decision weighs)
+    candidates: Vec<(String, f64, f64, bool, f64)>,
     /// departures from rest the diagnosis found (the breakaway evidence)
     departures: usize,
     /// evidence of the model-free dwell trend of the breakaway peaks (NaN: none)
@@ -196,7 +197,7 @@ fn calibration_curve(rows: &[Row]) {
     let first = |r: &Row, cut: f64| {
         r.candidates
             .iter()
-            .find(|c| c.3 && diagnose::cuts_error_by(c.2, r.baseline_pct, cut))
+            .find(|c| c.3 && c.4 >= cut)
             .map(|c| c.0.clone())
     };
     let ok: Vec<&Row> = rows.iter().filter(|r| r.error.is_none()).collect();
@@ -294,6 +295,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
                 c.delta_bic.unwrap_or(f64::NAN),
                 c.rel_err_pct.unwrap_or(f64::NAN),
                 c.detected,
+                c.error_cut,
             )
         })
         .collect();

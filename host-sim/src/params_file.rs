@@ -133,9 +133,20 @@ mod tables {
         pub max_increase_n: f64,
         pub time_constant_s: f64,
         pub stick_velocity_m_per_s: f64,
+        /// absent in files written before session 8 (their model forgot the dwell within the
+        /// breakaway): [`DEFAULT_RENEWAL_DISTANCE_M`]
+        #[serde(default = "default_renewal")]
+        pub renewal_distance_m: f64,
+    }
+    fn default_renewal() -> f64 {
+        super::DEFAULT_RENEWAL_DISTANCE_M
     }
 }
 pub use tables::*;
+
+/// The dwell's renewal distance of a parameter file that has none (written before session 8,
+/// when the model forgot the dwell within the breakaway): 0.1 mm \[m\].
+pub const DEFAULT_RENEWAL_DISTANCE_M: f64 = 1e-4;
 
 /// `[fit]`: provenance of the values.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -224,6 +235,7 @@ impl ParamFile {
                     max_increase_n: d.max_increase,
                     time_constant_s: d.time_constant,
                     stick_velocity_m_per_s: d.stick_velocity,
+                    renewal_distance_m: d.renewal_distance,
                 }),
             },
             fit: FitSection::default(),
@@ -348,8 +360,10 @@ impl ParamFile {
                     d.max_increase_n,
                     d.time_constant_s,
                     d.stick_velocity_m_per_s,
+                    d.renewal_distance_m,
                 ],
             )?;
+            positive(K::DwellStiction, "renewal_distance_m", d.renewal_distance_m)?;
             positive(K::DwellStiction, "time_constant_s", d.time_constant_s)?;
             positive(
                 K::DwellStiction,
@@ -360,6 +374,7 @@ impl ParamFile {
                 max_increase: d.max_increase_n,
                 time_constant: d.time_constant_s,
                 stick_velocity: d.stick_velocity_m_per_s,
+                renewal_distance: d.renewal_distance_m,
             });
         }
         Ok(FrictionModel { params, effects })

@@ -16,7 +16,7 @@ struct Outcome {
     base: f64,
     added: f64,
     floor: f64,
-    /// Some other effect than the first candidate was called significant.
+    /// An effect other than the hidden one was called significant.
     other_significant: bool,
 }
 
@@ -43,7 +43,10 @@ fn run(effect: Option<&str>, strength: f64, seed: u64) -> Outcome {
         base: d.stages[0].fit.rel_err_pct,
         added: d.stages[d.stages.len() - 1].fit.rel_err_pct,
         floor: d.noise_floor_pct.unwrap(),
-        other_significant: d.stages[0].candidates.iter().skip(1).any(|c| c.significant),
+        other_significant: d.stages[0]
+            .candidates
+            .iter()
+            .any(|c| c.significant && Some(c.kind.name()) != effect),
     };
     println!(
         "{:<23} strength {strength} seed {seed}: first {} ({}), {:.2} % -> {:.2} %, floor {:.2} %",
@@ -65,24 +68,26 @@ fn check(effect: &str) {
     for seed in [1, 2] {
         for strength in [1.0, 0.4] {
             let o = run(Some(effect), strength, seed);
-            assert_eq!(
-                o.first, effect,
-                "seed {seed} strength {strength}: ranked {} first",
-                o.first
-            );
             // An effect is visible when the plain model cannot come within 1.2x the noise floor
-            // (the yardstick). A visible effect must be called significant; one that
-            // leaves the baseline at the floor (stribeck_shape x0.4 on Table 2: 0.38 % against
-            // 0.38 %) is below what the calibrated rule reports, and must not be replaced by
-            // another effect.
+            // (the yardstick). A visible effect must be ranked first and called
+            // significant; one that leaves the baseline at the floor (stribeck_shape x0.4 on
+            // Table 2: 0.38 % against 0.38 %) is below what the calibrated rule reports, and
+            // no other effect may be called in its place. (Its rank among insignificant
+            // candidates carries nothing: since the dwell term chooses its renewal distance,
+            // dwell_stiction ranks first there, 0.38 % -> 0.34 %, not significant.)
             if o.base > 1.2 * o.floor {
+                assert_eq!(
+                    o.first, effect,
+                    "seed {seed} strength {strength}: ranked {} first",
+                    o.first
+                );
                 assert!(
                     o.significant,
                     "seed {seed} strength {strength}: visible {effect} not significant"
                 );
             } else {
                 assert!(
-                    o.significant || !o.other_significant,
+                    !o.other_significant,
                     "seed {seed} strength {strength}: another effect called significant"
                 );
             }

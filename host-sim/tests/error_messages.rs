@@ -105,6 +105,19 @@ fn parameter_file_messages() {
         )),
         "DIR/p.toml: [effects.position_dependence] cosine_n: at most 4 terms, got 5"
     );
+    let dwell = "[effects.dwell_stiction]\nmax_increase_n = 50\ntime_constant_s = 0.5\nstick_velocity_m_per_s = 2e-4\n";
+    assert_eq!(
+        read(&format!("{GOOD}{dwell}renewal_distance_m = 0\n")),
+        "DIR/p.toml: [effects.dwell_stiction] renewal_distance_m must be greater than zero"
+    );
+    // a file written before the renewal distance existed reads with the documented default
+    let old = dir.path().join("old.toml");
+    std::fs::write(&old, format!("{GOOD}{dwell}")).unwrap();
+    let (_, m) = ParamFile::read(&old).unwrap();
+    assert_eq!(
+        m.effects.dwell_stiction.map(|d| d.renewal_distance),
+        Some(host_sim::params_file::DEFAULT_RENEWAL_DISTANCE_M)
+    );
     assert!(read("[lugre\n").starts_with("DIR/p.toml:1:"));
     let e = ParamFile::read(Path::new("/nonexistent/p.toml"))
         .unwrap_err()

@@ -14,7 +14,7 @@
 //! | `temperature_dependence` | `sigma2 -> sigma2 exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs` |
 //! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
 //! | `viscous_power` | `F_visc = sigma2 v_r sign(v) |v / v_r|^delta` (equals `sigma2 v` at `v = v_r`) |
-//! | `dwell_stiction` | `Fs += dF (1 - exp(-t_dwell / tau))`, `t_dwell` = time stuck before departure |
+//! | `dwell_stiction` | `Fs += dF (1 - exp(-t_dwell / tau))`, `t_dwell` = time stuck, forgotten as `exp(-s / D)` over the slid distance `s` |
 
 use num_traits::Float;
 
@@ -155,8 +155,13 @@ pub struct DwellStiction<T> {
     pub max_increase: T,
     /// `tau` \[s\] > 0.
     pub time_constant: T,
-    /// Below this speed [m/s] the axis counts as stuck and the dwell timer runs.
+    /// Below this speed \[m/s\] the axis counts as stuck and the dwell timer runs.
     pub stick_velocity: T,
+    /// `D` \[m\] > 0: once the axis slides, the aged time is forgotten over this distance
+    /// (`t_dwell` decays as `exp(-s / D)` along the slid distance `s`): the junctions that grew
+    /// at rest are renewed by sliding, as in rate-and-state friction's state variable. A few
+    /// micrometres forget it within the breakaway; millimetres carry it into the motion.
+    pub renewal_distance: T,
 }
 
 /// The set of extra effects a model carries (all `None`: plain LuGre).
@@ -323,6 +328,7 @@ impl<T: Float> Effects<T> {
                 max_increase: c(d.max_increase),
                 time_constant: c(d.time_constant),
                 stick_velocity: c(d.stick_velocity),
+                renewal_distance: c(d.renewal_distance),
             }),
         }
     }
@@ -393,6 +399,7 @@ mod tests {
             max_increase: 1.0,
             time_constant: 1.0,
             stick_velocity: 1e-4,
+            renewal_distance: 1e-4,
         });
         let on: [EffectKind; 2] = [EffectKind::Offset, EffectKind::DwellStiction];
         assert!(e.kinds().eq(on));

@@ -184,14 +184,18 @@ impl<T: ModelFloat> FrictionModel<T> {
         dt: T,
     ) -> T {
         if let Some(d) = self.effects.dwell_stiction {
-            // Timer runs while stuck, is frozen through the Stribeck region (so the breakaway
-            // sees the full dwell), and resets once the axis slides.
+            // Timer runs while stuck and is forgotten over the renewal distance once the axis
+            // slides (a distance that is zero, negative or not a number forgets at once).
             let speed = mean_velocity.abs();
-            let three = T::from(3.0).unwrap_or_else(T::one);
             if speed < d.stick_velocity {
                 s.dwell_time = s.dwell_time + dt;
-            } else if speed > three * self.params.stribeck_velocity() {
-                s.dwell_time = T::zero();
+            } else {
+                let slid = speed * dt / d.renewal_distance;
+                s.dwell_time = if slid.is_finite() && slid >= T::zero() {
+                    s.dwell_time * (-slid).exp()
+                } else {
+                    T::zero()
+                };
             }
         }
         let l = self.levels(mean_velocity, c, s.dwell_time);
@@ -373,6 +377,7 @@ mod tests {
             max_increase: 200.0,
             time_constant: 1.0,
             stick_velocity: 1e-4,
+            renewal_distance: 1e-3,
         });
         let mut s = FrictionState::default();
         for _ in 0..1000 {
@@ -381,11 +386,29 @@ mod tests {
         assert!((s.dwell_time - 1.0).abs() < 1e-9);
         let l = m.levels(0.0, &REF, s.dwell_time);
         assert!((l.static_ - (632.0 + 200.0 * (1.0 - (-1.0f64).exp()))).abs() < 1e-9);
-        // frozen through the Stribeck region, reset once sliding
+        // forgotten over the renewal distance: 5 um slid keep e^-0.005 of it, 1 mm more e^-1
         m.step(&mut s, 0.005, &REF, 1e-3);
-        assert!((s.dwell_time - 1.0).abs() < 1e-9);
-        m.step(&mut s, 0.05, &REF, 1e-3);
-        assert_eq!(s.dwell_time, 0.0);
+        assert!((s.dwell_time - (-0.005f64).exp()).abs() < 1e-9);
+        for _ in 0..20 {
+            m.step(&mut s, 0.05, &REF, 1e-3);
+        }
+        assert!(
+            (s.dwell_time - (-1.005f64).exp()).abs() < 1e-9,
+            "{}",
+            s.dwell_time
+        );
+        // a distance of zero or NaN forgets at once (and never makes a NaN)
+        for bad in [0.0, f64::NAN, -1.0] {
+            let mut m = m;
+            if let Some(d) = m.effects.dwell_stiction.as_mut() {
+                d.renewal_distance = bad;
+            }
+            let mut s = FrictionState::default();
+            m.step(&mut s, 0.0, &REF, 1e-3);
+            let f = m.step(&mut s, 0.05, &REF, 1e-3);
+            assert_eq!(s.dwell_time, 0.0, "{bad}");
+            assert!(f.is_finite());
+        }
     }
 
     #[test]

@@ -349,8 +349,16 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                             .iter()
                             .map(|p| {
                                 format!(
-                                    "{} {:.4e} [{:.3e}, {:.3e}]",
-                                    p.name, p.value, p.ci_low, p.ci_high
+                                    "{} {:.4e} [{:.3e}, {:.3e}]{}",
+                                    p.name,
+                                    p.value,
+                                    p.ci_low,
+                                    p.ci_high,
+                                    if p.at_search_edge {
+                                        " (at the edge of its search range)"
+                                    } else {
+                                        ""
+                                    }
                                 )
                             })
                             .collect();

@@ -879,10 +879,15 @@ pub fn add_effect(
             })
         }
         K::DwellStiction => {
+            // a model that has the effect keeps its renewal distance (a polish moves tau only)
+            let renewal_distance = e
+                .dwell_stiction
+                .map_or(DWELL_RENEWAL_GRID_M[1], |d| d.renewal_distance);
             e.dwell_stiction = Some(fx::DwellStiction {
                 max_increase: 0.0,
                 time_constant: nonlinear,
                 stick_velocity: DWELL_STICK_VELOCITY,
+                renewal_distance,
             })
         }
     }
@@ -895,8 +900,23 @@ const LS_STRIDE: usize = 4;
 
 /// Reference velocity of the fitted viscous power law [m/s].
 pub const VISCOUS_REFERENCE_VELOCITY: f64 = 0.02;
-/// Below this speed the fitted dwell model counts the axis as stuck [m/s].
+/// Below this speed the fitted dwell model counts the axis as stuck \[m/s\].
 pub const DWELL_STICK_VELOCITY: f64 = 2e-4;
+
+/// The dwell's renewal distances the data choose from \[m\] (the shape's second nonlinear
+/// parameter, beside the time constant): from forgotten within the breakaway (10 um) to
+/// carried through the first centimetre of the move.
+pub const DWELL_RENEWAL_GRID_M: [f64; 4] = [1e-5, 1e-4, 1e-3, 1e-2];
+
+/// The model with its dwell term's renewal distance set to `distance_m` (unchanged without
+/// a dwell term).
+pub fn with_renewal(m: &AxisModel, distance_m: f64) -> AxisModel {
+    let mut out = *m;
+    if let Some(d) = out.friction.effects.dwell_stiction.as_mut() {
+        d.renewal_distance = distance_m;
+    }
+    out
+}
 
 #[cfg(test)]
 mod box_solve_tests {

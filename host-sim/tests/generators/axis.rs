@@ -49,7 +49,9 @@ const SUB: usize = 50;
 /// slow sinusoid could otherwise fill a whole record, leaving it without the rests, reversals
 /// and speed range a diagnosis record needs (and a dwell effect nothing to act on).
 pub const MAX_BURST_S: f64 = 8.0;
-/// Below this speed the dwell clock runs [m/s].
+/// Below this sliding speed the dwell clock runs [m/s]. Sliding, not the body's speed: a soft
+/// contact holding a closed-loop axis deflects elastically by tens of micrometres at speeds
+/// above this while its junctions stay put (see [`clock`]).
 const STICK_SPEED: f64 = 5e-5;
 
 /// Which actuator moves the axis.
@@ -110,11 +112,14 @@ pub enum Shape {
         exponent: f64,
         reference_m_per_s: f64,
     },
-    /// `Fs += dF t^n / (t^n + tau^n)`, `t` = time stuck before the motion.
+    /// `Fs += dF t^n / (t^n + tau^n)`, `t` = time stuck before the motion, forgotten over
+    /// the sliding distance `renewal_m` once the contact slides (the junctions aged at rest are
+    /// renewed: `t` decays as `e^(-s / renewal_m)` along the slid distance `s`).
     Dwell {
         increase_n: f64,
         tau_s: f64,
         hill: f64,
+        renewal_m: f64,
     },
 }
 
@@ -269,6 +274,7 @@ impl Axis {
                 increase_n: static_n * rng.range(0.2, 0.6),
                 tau_s: rng.log_range(0.1, 1.0),
                 hill: rng.range(0.7, 1.5),
+                renewal_m: rng.log_range(2e-5, 2e-3),
             },
             Some(other) => panic!("unknown effect {other}"),
         };
@@ -381,6 +387,7 @@ impl Axis {
                 increase_n,
                 tau_s,
                 hill,
+                ..
             } => {
                 let t = dwell_s.max(0.0).powf(hill);
                 hump(fc, fs + increase_n * t / (t + tau_s.powf(hill)))
@@ -390,7 +397,9 @@ impl Axis {
     }
 
     /// One friction sub-step of length h at velocity v: advances the bristle state (implicit
-    /// Euler, stable for any stiffness) and returns the friction force.
+    /// Euler, stable for any stiffness) and returns the friction force and the sliding speed,
+    /// the part of v that is not the bristle's elastic deflection rate (`|v - dz/dt| =
+    /// sigma0 |v| |z| / g`) [m/s].
     fn friction_step(
         &self,
         z: &mut f64,
@@ -400,12 +409,34 @@ impl Axis {
         temp: f64,
         dwell: f64,
         h: f64,
-    ) -> f64 {
+    ) -> (f64, f64) {
         let (g, visc, extra) = self.terms(v, x, p_sum, temp, dwell);
         let rate = self.sigma0 * v.abs() / g;
         *z = (*z + h * v) / (1.0 + h * rate);
         let zdot = v - rate * *z;
-        self.sigma0 * *z + self.sigma1 * zdot + visc + extra
+        (
+            self.sigma0 * *z + self.sigma1 * zdot + visc + extra,
+            (rate * *z).abs(),
+        )
+    }
+
+    /// The dwell clock: time stuck so far while stuck. Stuck means the contact does not slide
+    /// (`slip`, the sliding speed of the last sub-step, under [`STICK_SPEED`]): the junctions
+    /// age while the bristles only deflect. Once it slides, the aged time is forgotten over
+    /// the shape's renewal distance. (Until session 8 the clock ran on the body's speed and
+    /// froze through the whole next move: on soft contacts under a closed loop it restarted at
+    /// every elastic creep and reached 0.0..0.5 s during rests of 1..3 s, so most
+    /// `dwell_stiction` records held a few newtons of their effect at the departures.)
+    fn clock(&self, slip: f64, h: f64, stuck: &mut f64, dwell: &mut f64) {
+        if slip < STICK_SPEED {
+            *stuck += h;
+            *dwell = *stuck;
+        } else {
+            *stuck = 0.0;
+            if let Shape::Dwell { renewal_m, .. } = self.shape {
+                *dwell *= (-slip * h / renewal_m).exp();
+            }
+        }
     }
 
     /// The true friction along a given motion (for the noise floor: the true model driven by
@@ -424,7 +455,7 @@ impl Axis {
         let mut out = vec![0.0; x.len()];
         let h = dt / SUB as f64;
         for r in segments {
-            let (mut z, mut stuck, mut dwell) = (0.0, 0.0, 0.0);
+            let (mut z, mut stuck, mut dwell, mut slip) = (0.0, 0.0, 0.0, 0.0);
             for i in r.clone() {
                 let v = v_step[i];
                 let ps = p_sum.map_or(200e5, |p| p[i]);
@@ -432,8 +463,8 @@ impl Axis {
                 let mut f = 0.0;
                 for k in 0..SUB {
                     let xi = x[i] - v * (dt - (k as f64 + 1.0) * h);
-                    clock(v, h, &mut stuck, &mut dwell);
-                    f = self.friction_step(&mut z, v, xi, ps, tc, dwell, h);
+                    self.clock(slip, h, &mut stuck, &mut dwell);
+                    (f, slip) = self.friction_step(&mut z, v, xi, ps, tc, dwell, h);
                 }
                 out[i] = f;
             }
@@ -462,16 +493,6 @@ pub fn truth_error_pct(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -
             .map(|(a, f)| axis.mass_kg * a + f)
             .collect();
     p.rel_err_pct(&force)
-}
-
-/// The dwell clock: time stuck so far while stuck; frozen at its value on departure.
-fn clock(v: f64, h: f64, stuck: &mut f64, dwell: &mut f64) {
-    if v.abs() < STICK_SPEED {
-        *stuck += h;
-        *dwell = *stuck;
-    } else {
-        *stuck = 0.0;
-    }
 }
 
 /// Reference trajectory at 1 kHz: position, velocity, acceleration.
@@ -608,7 +629,7 @@ pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
     let mut pa = pb * ab / aa;
     let mut spool = 0.0;
     let (mut x, mut v, mut z) = (0.0f64, 0.0f64, 0.0f64);
-    let (mut stuck, mut dwell) = (0.0, 0.0);
+    let (mut stuck, mut dwell, mut slip) = (0.0, 0.0, 0.0);
     let mut integral = 0.0;
     let mut x_prev_meas = 0.0;
     let mut v_est = 0.0;
@@ -630,6 +651,10 @@ pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
     }
     if temp_col {
         out.push_str(",temp");
+    }
+    let dbg = std::env::var("AXIS_DEBUG").is_ok();
+    if dbg {
+        out.push_str(",effect_dbg,dwell_dbg");
     }
     out.push('\n');
     let mut force_cmd = 0.0;
@@ -658,6 +683,9 @@ pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
         }
         if temp_col {
             line.push_str(&format!(",{:.3}", temp + 0.05 * rng.normal()));
+        }
+        if dbg {
+            line.push_str(&format!(",{effect_force:.2},{dwell:.3}"));
         }
         line.push('\n');
         out.push_str(&line);
@@ -703,10 +731,13 @@ pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
             } else {
                 force_cmd
             };
-            clock(v, h, &mut stuck, &mut dwell);
-            let friction = axis.friction_step(&mut z, v, x, pa + pb, temp, dwell, h);
-            effect_force =
-                friction - plain.friction_step(&mut z_plain, v, x, pa + pb, temp, dwell, h);
+            axis.clock(slip, h, &mut stuck, &mut dwell);
+            let friction;
+            (friction, slip) = axis.friction_step(&mut z, v, x, pa + pb, temp, dwell, h);
+            effect_force = friction
+                - plain
+                    .friction_step(&mut z_plain, v, x, pa + pb, temp, dwell, h)
+                    .0;
             v += h * (actuator - friction) / m;
             x += h * v;
         }
