@@ -134,7 +134,7 @@ mod tables {
         pub time_constant_s: f64,
         pub stick_velocity_m_per_s: f64,
         /// absent in files written before session 8 (their model forgot the dwell within the
-        /// breakaway): [`DEFAULT_RENEWAL_DISTANCE_M`]
+        /// breakaway): [`DEFAULT_RENEWAL_DISTANCE_M`](super::DEFAULT_RENEWAL_DISTANCE_M)
         #[serde(default = "default_renewal")]
         pub renewal_distance_m: f64,
     }
