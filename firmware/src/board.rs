@@ -2,13 +2,14 @@
 //! nothing else. The control loop in `main.rs` talks only to this trait, so the same loop runs
 //! against the QEMU board here and against a real board's peripherals.
 //!
-//! Two implementations: `crate::stm32_board::Stm32Board` (the `board` feature), a real STM32F405 servo board
-//! (encoder on TIM5, pressures on ADC1, valve on the DAC; the control period from TIM2's
-//! interrupt; see that module for pins and scaling), and [`QemuBoard`] here. QEMU's
+//! Two implementations: `crate::stm32_board::Stm32Board` (the `board` feature), a real
+//! STM32F405 servo board (encoder on TIM5, pressures on ADC1, valve on the DAC; the control
+//! period from TIM2's interrupt; see that module for pins and scaling), and [`QemuBoard`]
+//! here. QEMU's
 //! `netduinoplus2` has no DAC and no GPIO, so the QEMU board keeps the valve command in memory
 //! and closes the loop through an on-target plant model.
 
-use lugre_servo::control::Measurements;
+use lugre_servo::control::{Measurements, Output};
 
 /// A servo board as the control loop sees it.
 pub trait Board {
@@ -18,6 +19,15 @@ pub trait Board {
     fn command_valve(&mut self, u: f32);
     /// Puts the valve to null, the safe state.
     fn null_valve(&mut self);
+    /// Acts on the controller's output for this period: the valve to null in the safe state,
+    /// else to its command.
+    fn actuate(&mut self, out: &Output) {
+        if out.safe {
+            self.null_valve();
+        } else {
+            self.command_valve(out.valve_command);
+        }
+    }
 }
 
 /// The valve command register of the QEMU board (a DAC on real hardware), as f32 bits: a

@@ -128,11 +128,7 @@ mod app {
         let t0 = cycles::now();
         let out = l.ctrl.tick(&m, &r);
         let t1 = cycles::now();
-        if out.safe {
-            l.board.null_valve();
-        } else {
-            l.board.command_valve(out.valve_command);
-        }
+        l.board.actuate(&out);
         let instructions = l.cal.instructions(t0, t1);
         s.worst_instr = s.worst_instr.max(instructions);
         s.total_instr += u64::from(instructions);

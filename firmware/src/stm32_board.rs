@@ -6,7 +6,7 @@
 //!
 //! - **encoder**: TIM5 in quadrature mode 3 (both edges of both channels), 32-bit counter,
 //!   channels on PA0/PA1 (AF2); the linear scale's resolution [`COUNT_M`] per count. TIM2 is
-//!   the control period's timer (see [`crate::timer`]).
+//!   the control period's timer (the HAL's 1 kHz counter, in `src/bin/board.rs`).
 //! - **pressures**: ADC1 channels 10 and 11 (PC0/PC1, analog), 4..20 mA transmitters over a
 //!   150 ohm shunt (0.6..3.0 V of the 3.3 V reference), [`PRESSURE_FULL_SCALE_PA`] at 20 mA;
 //!   converted one after the other at the start of each period (~2 us at a 21 MHz ADC clock
@@ -43,7 +43,7 @@ const ADC_20MA: f32 = 3.0 / 3.3 * 4095.0;
 /// DAC counts of the valve's null and of full opening either way (12 bits).
 const DAC_NULL: f32 = 2048.0;
 const DAC_SPAN: f32 = 2047.0;
-/// The board's crystal [MHz].
+/// The board's crystal \[MHz\].
 const HSE_MHZ: u32 = 8;
 
 /// The servo board's peripherals, configured.
@@ -53,7 +53,7 @@ pub struct Stm32Board {
     pressure_a: PC0<Analog>,
     pressure_b: PC1<Analog>,
     valve: C1,
-    /// Axis position at encoder count zero [m] (where the axis was at power-up or homing).
+    /// Axis position at encoder count zero \[m\] (where the axis was at power-up or homing).
     origin_m: f32,
 }
 
@@ -107,7 +107,7 @@ impl Stm32Board {
         board
     }
 
-    /// A transmitter's pressure from its ADC counts [Pa] (below 4 mA reads as a fault, NaN,
+    /// A transmitter's pressure from its ADC counts \[Pa\] (below 4 mA reads as a fault, NaN,
     /// which the controller's input supervision turns into the safe state).
     fn pressure(counts: u16) -> f32 {
         let c = f32::from(counts);

@@ -2,8 +2,8 @@
 //!
 //! The same RTIC shape as the self-test: TIM2's update interrupt runs the control period at
 //! the top priority (sample the encoder and the pressures, tick, command the valve, through
-//! [`Stm32Board`](lugre_servo_firmware::stm32_board::Stm32Board), on the STM32F4 HAL); friction health events go to a software task at the
-//! lowest priority. The model is the parameter file's (build time). Built without the `qemu`
+//! [`Stm32Board`](lugre_servo_firmware::stm32_board::Stm32Board), on the STM32F4 HAL);
+//! friction health events go to a software task at the lowest priority. The model is the parameter file's (build time). Built without the `qemu`
 //! option, for the board's clock tree; not run in CI (in QEMU the HAL's clock setup waits
 //! forever for RCC's ready bits, and QEMU models neither the encoder mode nor the DAC).
 //! Settings at run time arrive as on the PIL link ([`lugre_servo::link::SettingsFrame`]) on a
@@ -65,7 +65,7 @@ mod app {
         let mut timer = d.TIM2.counter_hz(&clocks);
         if timer.start(1.kHz()).is_err() {
             // a clock tree that cannot make 1 kHz: never start the loop (the valve stays null)
-            panic!("TIM2 cannot count 1 kHz from {} Hz", clocks.timclk1().raw());
+            panic!("TIM2 cannot count 1 kHz from this clock tree");
         }
         timer.listen(Event::Update);
         (
@@ -98,11 +98,7 @@ mod app {
             acceleration_m_per_s2: 0.0,
         };
         let out = l.ctrl.tick(&m, &r);
-        if out.safe {
-            l.board.null_valve();
-        } else {
-            l.board.command_valve(out.valve_command);
-        }
+        l.board.actuate(&out);
         if let Some(ev) = l.ctrl.pop_health_event() {
             let _ = telemetry::spawn(ev);
         }

@@ -4,11 +4,11 @@
 //!
 //! An RTIC 2 application. The sampling event is the arrival of the period's sensor frame, so
 //! the control period is the top-priority task bound to USART1's receive interrupt: it takes
-//! the byte, and when a [`SensorFrame`](lugre_servo::link::SensorFrame) completes it checks the link, ticks the controller
+//! the byte, and when a [`SensorFrame`] completes it checks the link, ticks the controller
 //! (its cost counted in instructions with SysTick under `-icount shift=0`), sets the valve and
-//! answers with an [`ActuationFrame`](lugre_servo::link::ActuationFrame). TIM2's 1 kHz interrupt runs the link watchdog at the
+//! answers with an [`ActuationFrame`]. TIM2's 1 kHz interrupt runs the link watchdog at the
 //! same priority; friction health events go to a software task at the lowest priority. At
-//! boot the firmware sends a [`HelloFrame`](lugre_servo::link::HelloFrame) with the model it runs (the parameter file of the
+//! boot the firmware sends a [`HelloFrame`] with the model it runs (the parameter file of the
 //! build). Link faults are handled like sensor faults, safely:
 //!
 //! - a frame that fails its checksum: valve to null, answered with a fault frame (the host
@@ -18,6 +18,10 @@
 //!
 //! and after each, the loop holds the valve at null for [`RECOVERY_FRAMES`] good frames, then
 //! starts a fresh controller from where the axis is. The panic handler nulls the valve too.
+//!
+//! [`SensorFrame`]: lugre_servo::link::SensorFrame
+//! [`ActuationFrame`]: lugre_servo::link::ActuationFrame
+//! [`HelloFrame`]: lugre_servo::link::HelloFrame
 //!
 //! A [`lugre_servo::link::SettingsFrame`] between sensor frames carries new friction
 //! parameters: checked with the core's rules (`LugreParams::new`, `check_physical`) and, if

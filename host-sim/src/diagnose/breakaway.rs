@@ -249,18 +249,20 @@ impl Breakaway {
             .sum()
     }
 
-    /// Evidence from the peaks for a candidate's prediction over the current model's:
-    /// `n ln(RSS_current / RSS_candidate)`; 0 without departures.
-    pub fn peak_dbic(&self, current: &[f64], candidate: &[f64]) -> f64 {
+    /// The peaks' evidence for a candidate's prediction over a model whose peak residual sum
+    /// is `current_peak_rss` \[N^2\] (`n ln(RSS_current / RSS_candidate)`), once there are
+    /// [`MIN_DEPARTURES`] departures, enough to be more than anecdote; `None` before.
+    pub fn counted_peak_dbic(&self, current_peak_rss: f64, candidate: &[f64]) -> Option<f64> {
         let n = self.departures.len();
-        if n == 0 {
-            return 0.0;
+        if n < MIN_DEPARTURES {
+            return None;
         }
-        let (r0, r1) = (self.peak_rss(current), self.peak_rss(candidate));
-        if !(r0 > 0.0 && r1 > 0.0) {
-            return 0.0;
-        }
-        n as f64 * (r0 / r1).ln()
+        let r1 = self.peak_rss(candidate);
+        Some(if current_peak_rss > 0.0 && r1 > 0.0 {
+            n as f64 * (current_peak_rss / r1).ln()
+        } else {
+            0.0
+        })
     }
 }
 

@@ -787,12 +787,15 @@ pub fn with_nonlinear(m: &AxisModel, stribeck_velocity: f64, bristle_stiffness: 
     }
 }
 
+/// A grid search's result: the best x, its value, and every (x, objective) tried.
+pub type GridResult<T> = (f64, T, Vec<(f64, f64)>);
+
 /// Minimises `f` over a grid, then refines once with a parabola through the best point and its
 /// neighbours (in the grid's coordinate). Returns (best x, best value, every (x, value)).
 pub fn grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     grid: &[f64],
     f: F,
-) -> (f64, T, Vec<(f64, f64)>) {
+) -> GridResult<T> {
     use rayon::prelude::*;
     let vals: Vec<(f64, T)> = grid.par_iter().map(|&x| f(x)).collect();
     let mut profile: Vec<(f64, f64)> = grid.iter().zip(&vals).map(|(x, (c, _))| (*x, *c)).collect();
@@ -882,7 +885,9 @@ pub fn add_effect(
             // a model that has the effect keeps its renewal distance (a polish moves tau only)
             let renewal_distance = e
                 .dwell_stiction
-                .map_or(DWELL_RENEWAL_GRID_M[1], |d| d.renewal_distance);
+                .map_or(crate::params_file::DEFAULT_RENEWAL_DISTANCE_M, |d| {
+                    d.renewal_distance
+                });
             e.dwell_stiction = Some(fx::DwellStiction {
                 max_increase: 0.0,
                 time_constant: nonlinear,
@@ -908,14 +913,33 @@ pub const DWELL_STICK_VELOCITY: f64 = 2e-4;
 /// carried through the first centimetre of the move.
 pub const DWELL_RENEWAL_GRID_M: [f64; 4] = [1e-5, 1e-4, 1e-3, 1e-2];
 
-/// The model with its dwell term's renewal distance set to `distance_m` (unchanged without
-/// a dwell term).
-pub fn with_renewal(m: &AxisModel, distance_m: f64) -> AxisModel {
+/// The model with the second shape parameter of `effect` (see
+/// [`super::EffectInfo::shape`]) set to `value` (unchanged when the model lacks the effect or
+/// the effect has no second shape parameter): the dwell term's renewal distance \[m\].
+pub fn with_shape(
+    m: &AxisModel,
+    effect: lugre_servo::friction::EffectKind,
+    value: f64,
+) -> AxisModel {
     let mut out = *m;
-    if let Some(d) = out.friction.effects.dwell_stiction.as_mut() {
-        d.renewal_distance = distance_m;
+    if effect == lugre_servo::friction::EffectKind::DwellStiction {
+        if let Some(d) = out.friction.effects.dwell_stiction.as_mut() {
+            d.renewal_distance = value;
+        }
     }
     out
+}
+
+/// The second shape parameter of `effect` in a model (see [`with_shape`]).
+pub fn shape_value(m: &AxisModel, effect: lugre_servo::friction::EffectKind) -> Option<f64> {
+    match effect {
+        lugre_servo::friction::EffectKind::DwellStiction => m
+            .friction
+            .effects
+            .dwell_stiction
+            .map(|d| d.renewal_distance),
+        _ => None,
+    }
 }
 
 #[cfg(test)]

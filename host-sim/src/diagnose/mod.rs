@@ -45,6 +45,9 @@ pub struct EffectInfo {
     pub linear: &'static [Param],
     /// Grid of its nonlinear parameter, its name and its "no effect" value.
     pub nonlinear: Option<(&'static str, &'static [f64], Option<f64>)>,
+    /// A second shape parameter, its name and grid: the nonlinear one is searched afresh at
+    /// each of its values (see [`fit::with_shape`]).
+    pub shape: Option<(&'static str, &'static [f64])>,
 }
 
 /// The eight candidate effects.
@@ -54,18 +57,21 @@ pub const EFFECTS: [EffectInfo; 8] = [
         meaning: "friction differs with the direction of motion (seal wear, side load, a fatigued screw)",
         linear: &[Param::AsymCoulomb, Param::AsymViscous],
         nonlinear: None,
+        shape: None,
     },
     EffectInfo {
         kind: EffectKind::Offset,
         meaning: "a constant force whatever the motion (gravity on an inclined axis, a spring, a force-sensor offset)",
         linear: &[Param::Offset],
         nonlinear: None,
+        shape: None,
     },
     EffectInfo {
         kind: EffectKind::LoadDependence,
         meaning: "seal friction grows with chamber pressure (pressure-energised seals)",
         linear: &[Param::LoadCoefficient],
         nonlinear: None,
+        shape: None,
     },
     EffectInfo {
         kind: EffectKind::PositionDependence,
@@ -73,6 +79,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         linear: &[Param::PositionGradient],
         // the number of cosine terms of its shape, chosen by the information criterion
         nonlinear: Some(("terms", &[0.0, 1.0, 2.0, 3.0, 4.0], None)),
+        shape: None,
     },
     EffectInfo {
         kind: EffectKind::TemperatureDependence,
@@ -83,24 +90,28 @@ pub const EFFECTS: [EffectInfo; 8] = [
             &[-0.02, -0.01, 0.0, 0.005, 0.01, 0.015, 0.02, 0.025, 0.03, 0.04, 0.05],
             Some(0.0),
         )),
+        shape: None,
     },
     EffectInfo {
         kind: EffectKind::StribeckShape,
         meaning: "the fall from breakaway to sliding friction is sharper or gentler than the standard Stribeck curve",
         linear: &[],
         nonlinear: Some(("exponent", &[0.5, 0.7, 0.9, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0], Some(2.0))),
+        shape: None,
     },
     EffectInfo {
         kind: EffectKind::ViscousPower,
         meaning: "viscous friction is not proportional to speed (shear-thinning film, turbulent leakage)",
         linear: &[],
         nonlinear: Some(("exponent", &[0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5], Some(1.0))),
+        shape: None,
     },
     EffectInfo {
         kind: EffectKind::DwellStiction,
         meaning: "the breakaway force grows with time at rest (junction growth, lubricant squeezed out)",
         linear: &[Param::DwellIncrease],
         nonlinear: Some(("time_constant_s", &[0.1, 0.2, 0.5, 1.0, 2.0, 5.0], None)),
+        shape: Some(("renewal_distance_m", &fit::DWELL_RENEWAL_GRID_M)),
     },
 ];
 
@@ -184,6 +195,24 @@ pub struct ParamReport {
     pub at_search_edge: bool,
 }
 
+/// The 95 % profile-likelihood interval of a searched parameter around its best value `best`:
+/// the values whose residual sum stays within `chi2_1(0.95) / n_eff` (log) of the smallest,
+/// and those values.
+fn profile_interval(profile: &[(f64, f64)], n_eff: f64, best: f64) -> (f64, f64, Vec<f64>) {
+    let r_min = profile
+        .iter()
+        .map(|(_, r)| *r)
+        .fold(f64::INFINITY, f64::min);
+    let inside: Vec<f64> = profile
+        .iter()
+        .filter(|(_, r)| n_eff * (r / r_min).ln() <= 3.84)
+        .map(|(x, _)| *x)
+        .collect();
+    let lo = inside.iter().cloned().fold(best, f64::min);
+    let hi = inside.iter().cloned().fold(best, f64::max);
+    (lo, hi, inside)
+}
+
 /// Whether `value` sits on the first or last value of a search grid.
 fn on_edge(grid: &[f64], value: f64) -> bool {
     let near = |g: &f64| (value - g).abs() <= 1e-9 * g.abs().max(1e-300);
@@ -228,6 +257,10 @@ pub struct Candidate {
     /// The refitted model (not serialised).
     #[serde(skip)]
     pub fit: Option<Fit>,
+    /// For `dwell_stiction`, its rest-independent twin's residuals (see
+    /// [`rest_independent_twin`]), computed once per fit.
+    #[serde(skip)]
+    rest_null: Option<RestNull>,
     /// The profile interval of the nonlinear parameter excludes its "no effect" value.
     #[serde(skip)]
     pub nonlinear_excludes_null: bool,
@@ -670,7 +703,8 @@ pub fn rank_candidates(
         if better {
             let info = effect_info(out[i].kind);
             let (params, nl) = (out[i].parameters.clone(), out[i].nonlinear_excludes_null);
-            out[i] = judge(p, fixed_mass, brk, current, info, f, params, nl, n_eff);
+            let rest_null = rest_independent_twin(p, fixed_mass, brk, info, current, &f, n_eff);
+            out[i] = judge(brk, current, info, f, params, nl, rest_null, n_eff);
         }
     }
     // Final verdict for every candidate, on one yardstick: the noise is judged from the best
@@ -690,14 +724,13 @@ pub fn rank_candidates(
         .par_iter()
         .map(|c| match &c.fit {
             Some(f) => judge(
-                p,
-                fixed_mass,
                 brk,
                 current,
                 effect_info(c.kind),
                 f.clone(),
                 c.parameters.clone(),
                 c.nonlinear_excludes_null,
+                c.rest_null,
                 n_c,
             ),
             _ => c.clone(),
@@ -730,55 +763,45 @@ fn score(
         skipped: missing_channel(info.kind, p),
         fit: None,
         nonlinear_excludes_null: false,
+        rest_null: None,
     };
     if cand.skipped.is_some() {
         return cand;
     }
-    // the dwell's renewal distance: a second shape parameter, searched around the first
-    let renewals: &[f64] = if info.kind == EffectKind::DwellStiction {
-        &fit::DWELL_RENEWAL_GRID_M
-    } else {
-        &[f64::NAN]
-    };
-    let mut renewal_profile: Vec<(f64, f64)> = Vec::new();
+    let mut shape_profile: Vec<(f64, f64)> = Vec::new();
     let (fit, nonlinear_ci) = match info.nonlinear {
         Some((name, grid, null)) => {
-            // per renewal distance: (best value, its fit, the value's profile)
-            type Searched = (f64, Fit, Vec<(f64, f64)>);
-            let mut searched: Vec<Searched> = Vec::new();
-            for &distance in renewals {
-                let r = fit::grid_min(grid, |x| {
+            // the nonlinear parameter's grid, at each value of the second shape parameter
+            let shapes: Vec<Option<f64>> = info
+                .shape
+                .map_or(vec![None], |(_, g)| g.iter().copied().map(Some).collect());
+            let mut best: Option<fit::GridResult<Fit>> = None;
+            for shape in shapes {
+                let (x, f, profile) = fit::grid_min(grid, |x| {
                     let mut m = fit::add_effect(&current.model, info.kind, p, x);
-                    if distance.is_finite() {
-                        m = fit::with_renewal(&m, distance);
+                    if let Some(v) = shape {
+                        m = fit::with_shape(&m, info.kind, v);
                     }
                     let f = fit::refit_quick(&m, p, fixed_mass, n_eff);
                     (grid_objective(info, x, f.rss, n_eff), f)
                 });
-                renewal_profile.push((distance, r.1.rss));
-                searched.push(r);
+                if let Some(v) = shape {
+                    shape_profile.push((v, f.rss));
+                }
+                let objective = |x: f64, f: &Fit| grid_objective(info, x, f.rss, n_eff);
+                if best
+                    .as_ref()
+                    .is_none_or(|(bx, bf, _)| objective(x, &f) < objective(*bx, bf))
+                {
+                    best = Some((x, f, profile));
+                }
             }
-            let best = (0..searched.len())
-                .min_by(|&a, &b| {
-                    let o =
-                        |k: usize| grid_objective(info, searched[k].0, searched[k].1.rss, n_eff);
-                    o(a).total_cmp(&o(b))
-                })
-                .unwrap_or(0);
-            let (x, f, profile): (f64, Fit, _) = searched.swap_remove(best);
-            // the profile interval from the grid's own (quick) residuals
-            let r_min = profile
-                .iter()
-                .map(|(_, r)| *r)
-                .fold(f64::INFINITY, f64::min);
+            let Some((x, f, profile)) = best else {
+                unreachable!("at least one shape value is searched")
+            };
             let f = fit::refit(&f.model, p, fixed_mass, n_eff);
-            let inside: Vec<f64> = profile
-                .iter()
-                .filter(|(_, r)| n_eff * (r / r_min).ln() <= 3.84)
-                .map(|(x, _)| *x)
-                .collect();
-            let lo = inside.iter().cloned().fold(x, f64::min);
-            let hi = inside.iter().cloned().fold(x, f64::max);
+            // the profile interval from the grid's own (quick) residuals
+            let (lo, hi, inside) = profile_interval(&profile, n_eff, x);
             let excludes_null = null.is_some_and(|z| {
                 !inside.iter().any(|v| (*v - z).abs() < 1e-12) && (z < lo || z > hi)
             });
@@ -789,6 +812,18 @@ fn score(
                 ci_high: hi,
                 at_search_edge: info.kind != EffectKind::PositionDependence && on_edge(grid, x),
             });
+            if let (Some((shape_name, shape_grid)), Some(v)) =
+                (info.shape, fit::shape_value(&f.model, info.kind))
+            {
+                let (lo, hi, _) = profile_interval(&shape_profile, n_eff, v);
+                cand.parameters.push(ParamReport {
+                    name: shape_name.into(),
+                    value: v,
+                    ci_low: lo,
+                    ci_high: hi,
+                    at_search_edge: on_edge(shape_grid, v),
+                });
+            }
             (f, excludes_null)
         }
         None => (
@@ -801,44 +836,17 @@ fn score(
             false,
         ),
     };
-    let mut judged = judge(
-        p,
-        fixed_mass,
+    let rest_null = rest_independent_twin(p, fixed_mass, brk, info, current, &fit, n_eff);
+    judge(
         brk,
         current,
         info,
         fit,
         cand.parameters.clone(),
         nonlinear_ci,
+        rest_null,
         n_eff,
-    );
-    if let Some(d) = judged
-        .fit
-        .as_ref()
-        .and_then(|f| f.model.friction.effects.dwell_stiction)
-        .filter(|_| renewal_profile.len() > 1)
-    {
-        // its profile interval over the distances searched (likelihood ratio, 95 %)
-        let r_min = renewal_profile
-            .iter()
-            .map(|(_, r)| *r)
-            .fold(f64::INFINITY, f64::min);
-        let inside = renewal_profile
-            .iter()
-            .filter(|(_, r)| n_eff * (r / r_min).ln() <= 3.84)
-            .map(|(x, _)| *x);
-        let (lo, hi) = inside.fold((d.renewal_distance, d.renewal_distance), |(a, b), x| {
-            (a.min(x), b.max(x))
-        });
-        judged.parameters.push(ParamReport {
-            name: "renewal_distance_m".into(),
-            value: d.renewal_distance,
-            ci_low: lo,
-            ci_high: hi,
-            at_search_edge: on_edge(&fit::DWELL_RENEWAL_GRID_M, d.renewal_distance),
-        });
-    }
-    judged
+    )
 }
 
 /// The smallest relative cut of the model's error for which a candidate effect is reported as
@@ -878,20 +886,20 @@ pub fn decision_cut(kind: EffectKind, brk: &Breakaway, current: &Fit, candidate:
 /// `parameters` holds the nonlinear parameter's report (from its grid profile), if any.
 #[allow(clippy::too_many_arguments)]
 fn judge(
-    p: &Prepared,
-    fixed_mass: Option<f64>,
     brk: &Breakaway,
     current: &Fit,
     info: &EffectInfo,
     fit: Fit,
     parameters: Vec<ParamReport>,
     nonlinear_excludes_null: bool,
+    rest_null: Option<RestNull>,
     n_eff: f64,
 ) -> Candidate {
     let mut parameters: Vec<ParamReport> = parameters
         .into_iter()
         .filter(|q| {
-            info.nonlinear.is_some_and(|(n, _, _)| n == q.name) || q.name == "renewal_distance_m"
+            info.nonlinear.is_some_and(|(n, _, _)| n == q.name)
+                || info.shape.is_some_and(|(n, _)| n == q.name)
         })
         .collect();
     if let (Some(v), Some(q)) = (
@@ -923,49 +931,26 @@ fn judge(
     let k = own.len() + usize::from(info.nonlinear.is_some());
     let sliding = n_eff * (current.rss / fit.rss).ln() - k as f64 * n_eff.ln();
     // the breakaway peaks count once there are enough of them to be more than anecdote
-    let peaks = (brk.departures.len() >= breakaway::MIN_DEPARTURES)
-        .then(|| brk.peak_dbic(&current.prediction, &fit.prediction));
+    let peaks = brk.counted_peak_dbic(brk.peak_rss(&current.prediction), &fit.prediction);
     let dbic = sliding + peaks.unwrap_or(0.0);
     // dwell stiction acts only where the axis breaks away: the peaks must bear it out, and
     // the measured peaks must grow with the rest time
     let caution = match info.kind {
-        EffectKind::DwellStiction if !brk.ignored => brk
-            .untestable
-            .clone()
-            .or_else(|| {
-                (peaks.unwrap_or(0.0) < breakaway::DWELL_MIN_PEAK_DBIC).then(|| {
-                    format!(
-                        "it does not explain the breakaway peaks better (peak evidence {:.1} < {})",
-                        peaks.unwrap_or(0.0),
-                        breakaway::DWELL_MIN_PEAK_DBIC
-                    )
-                })
-            })
-            .or_else(|| {
-                let trend = brk
-                    .trend
-                    .as_ref()
-                    .map_or(f64::NEG_INFINITY, |t| t.delta_bic);
-                (trend < breakaway::DWELL_MIN_TREND_DBIC).then(|| {
-                    format!(
-                        "the measured breakaway peaks do not grow with the rest time (trend \
-                         evidence {trend:.1} < {} over {} departures; more rests, from under \
-                         0.1 s to several seconds, would show a growth that is there)",
-                        breakaway::DWELL_MIN_TREND_DBIC,
-                        brk.departures.len()
-                    )
-                })
-            })
-            .or_else(|| {
-                let growth = rest_dependence(p, fixed_mass, brk, &fit, n_eff);
-                (growth < breakaway::DWELL_MIN_GROWTH_DBIC).then(|| {
-                    format!(
-                        "a breakaway level that ignores the rest time explains the record as \
+        EffectKind::DwellStiction if !brk.ignored => dwell_precondition(brk, peaks).or_else(|| {
+            let growth = rest_null.map_or(f64::NEG_INFINITY, |null| {
+                n_eff * (null.rss / fit.rss).ln()
+                    + brk
+                        .counted_peak_dbic(null.peak_rss, &fit.prediction)
+                        .unwrap_or(0.0)
+            });
+            (growth < breakaway::DWELL_MIN_GROWTH_DBIC).then(|| {
+                format!(
+                    "a breakaway level that ignores the rest time explains the record as \
                          well (evidence for growth with rest {growth:.1} < {})",
-                        breakaway::DWELL_MIN_GROWTH_DBIC
-                    )
-                })
-            }),
+                    breakaway::DWELL_MIN_GROWTH_DBIC
+                )
+            })
+        }),
         _ => None,
     };
     let detected = dbic > 10.0 && caution.is_none() && (linear_excludes || nonlinear_excludes_null);
@@ -984,34 +969,86 @@ fn judge(
         skipped: None,
         fit: Some(fit),
         nonlinear_excludes_null,
+        rest_null,
     }
 }
 
-/// Evidence that a fitted dwell term's force grows with the rest time: its sliding and peak
-/// dBIC over the same model refitted with every rest counted as long
-/// ([`breakaway::REST_INDEPENDENT_TAU_S`]); infinite without a dwell term to test.
-fn rest_dependence(
+/// The residuals of a fitted dwell term's rest-independent twin: the same model refitted with
+/// every rest counted as long ([`breakaway::REST_INDEPENDENT_TAU_S`]), a breakaway level of its
+/// own whatever the rest. [`judge`] calls the dwell term only where it beats this twin by
+/// [`breakaway::DWELL_MIN_GROWTH_DBIC`].
+#[derive(Clone, Copy, Debug)]
+struct RestNull {
+    /// Residual sum of squares \[N^2\].
+    rss: f64,
+    /// Residual sum of squares of the breakaway peaks \[N^2\].
+    peak_rss: f64,
+}
+
+/// Why a dwell term cannot be called on this record, before its growth with the rest is
+/// weighed (the cheap conditions, in order): breakaways that cannot test it, peaks it does
+/// not explain better (`peaks`: its peak evidence over the current model), measured peaks
+/// that do not grow with the rest.
+fn dwell_precondition(brk: &Breakaway, peaks: Option<f64>) -> Option<String> {
+    let peaks = peaks.unwrap_or(0.0);
+    let trend = brk
+        .trend
+        .as_ref()
+        .map_or(f64::NEG_INFINITY, |t| t.delta_bic);
+    brk.untestable
+        .clone()
+        .or_else(|| {
+            (peaks < breakaway::DWELL_MIN_PEAK_DBIC).then(|| {
+                format!(
+                    "it does not explain the breakaway peaks better (peak evidence {peaks:.1} < {})",
+                    breakaway::DWELL_MIN_PEAK_DBIC
+                )
+            })
+        })
+        .or_else(|| {
+            (trend < breakaway::DWELL_MIN_TREND_DBIC).then(|| {
+                format!(
+                    "the measured breakaway peaks do not grow with the rest time (trend evidence \
+                     {trend:.1} < {} over {} departures; more rests, from under 0.1 s to \
+                     several seconds, would show a growth that is there)",
+                    breakaway::DWELL_MIN_TREND_DBIC,
+                    brk.departures.len()
+                )
+            })
+        })
+}
+
+/// The rest-independent twin of a candidate's fit (one refit), for [`judge`] to weigh: only for
+/// a `dwell_stiction` fit that passes [`dwell_precondition`] against `current`; `None`
+/// elsewhere.
+fn rest_independent_twin(
     p: &Prepared,
     fixed_mass: Option<f64>,
     brk: &Breakaway,
+    info: &EffectInfo,
+    current: &Fit,
     fit: &Fit,
     n_eff: f64,
-) -> f64 {
-    let Some(d) = fit.model.friction.effects.dwell_stiction else {
-        return f64::INFINITY;
-    };
+) -> Option<RestNull> {
+    let peaks = brk.counted_peak_dbic(brk.peak_rss(&current.prediction), &fit.prediction);
+    if info.kind != EffectKind::DwellStiction
+        || brk.ignored
+        || dwell_precondition(brk, peaks).is_some()
+    {
+        return None;
+    }
+    let d = fit.model.friction.effects.dwell_stiction?;
     let mut null = fit.model;
     null.friction.effects.dwell_stiction = Some(lugre_servo::friction::effects::DwellStiction {
         time_constant: breakaway::REST_INDEPENDENT_TAU_S,
         ..d
     });
+    // (n_eff sets only the standard errors, not the fit)
     let null = fit::refit(&null, p, fixed_mass, n_eff);
-    let peaks = if brk.departures.len() >= breakaway::MIN_DEPARTURES {
-        brk.peak_dbic(&null.prediction, &fit.prediction)
-    } else {
-        0.0
-    };
-    n_eff * (null.rss / fit.rss).ln() + peaks
+    Some(RestNull {
+        rss: null.rss,
+        peak_rss: brk.peak_rss(&null.prediction),
+    })
 }
 
 /// The nonlinear parameter of an effect in a model.
