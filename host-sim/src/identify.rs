@@ -256,8 +256,9 @@ pub const COARSE_CROSSINGS_PER_STRETCH: f64 = 10.0;
 /// the reading to count as quantised.
 const QUANTISED_SHARE: f64 = 0.95;
 
-/// The resolution of a position reading \[m\]: its smallest nonzero step, if at least 95 %
-/// of the nonzero steps are whole multiples of it (within 1 %); 0 otherwise (an unquantised
+/// The resolution of a position reading \[m\]: the largest of its smallest nonzero step and
+/// that step's whole fractions down to a tenth of which at least 95 % of the nonzero steps
+/// are whole multiples (within 1 %); 0 when none is (an unquantised
 /// or resampled reading, whose staircase the dynamic stage then does not look for).
 pub fn encoder_resolution(x: &[f64]) -> f64 {
     let steps: Vec<f64> = x
@@ -265,21 +266,24 @@ pub fn encoder_resolution(x: &[f64]) -> f64 {
         .map(|w| (w[1] - w[0]).abs())
         .filter(|d| *d > 0.0 && d.is_finite())
         .collect();
-    let Some(q) = steps.iter().copied().reduce(f64::min) else {
+    let Some(smallest) = steps.iter().copied().reduce(f64::min) else {
         return 0.0;
     };
-    let whole = steps
-        .iter()
-        .filter(|d| {
-            let n = *d / q;
-            (n - n.round()).abs() <= 0.01
+    // the count may be a fraction of the smallest step taken (a reference rounded to 0.1 um
+    // moving 0.5 um per period): the largest whole fraction that fits
+    (1..=10)
+        .map(|k| smallest / k as f64)
+        .find(|&q| {
+            let whole = steps
+                .iter()
+                .filter(|d| {
+                    let n = *d / q;
+                    (n - n.round()).abs() <= 0.01
+                })
+                .count();
+            whole as f64 >= QUANTISED_SHARE * steps.len() as f64
         })
-        .count();
-    if whole as f64 >= QUANTISED_SHARE * steps.len() as f64 {
-        q
-    } else {
-        0.0
-    }
+        .unwrap_or(0.0)
 }
 
 /// The standard deviation of a force's white measurement noise \[N\], from its second
@@ -300,6 +304,30 @@ pub fn force_noise(force: &[f64]) -> f64 {
     *median / 0.6745 / 6f64.sqrt()
 }
 
+/// Sub-windows of a leg's averaging window whose mean velocities [`slides_steadily`] compares.
+const STEADY_SUBWINDOWS: usize = 10;
+
+/// Whether the axis slides steadily over `window` of the position `x`: the mean velocity of
+/// each tenth of the window stays within half of the whole window's mean. A leg in
+/// stick-slip (an axis on the falling part of its Stribeck curve with too little damping
+/// or loop stiffness, common at the slowest legs) averages a force that is not the
+/// steady-state friction at its mean velocity: measured on the independent generator's
+/// hydraulic axes, 245 N where `Fss(v)` is 445 N at 0.5 mm/s.
+fn slides_steadily(x: &[f64], window: std::ops::Range<usize>) -> bool {
+    let n = window.len();
+    if n < 2 * STEADY_SUBWINDOWS {
+        return true;
+    }
+    let mean = (x[window.end - 1] - x[window.start]) / (n - 1) as f64;
+    let part = n / STEADY_SUBWINDOWS;
+    (0..STEADY_SUBWINDOWS).all(|k| {
+        let a = window.start + k * part;
+        let b = (a + part).min(window.end - 1);
+        let v = (x[b] - x[a]) / (b - a) as f64;
+        (v - mean).abs() <= 0.5 * mean.abs()
+    })
+}
+
 /// Steady-state points from a measured sweep record: each constant-velocity leg of `x_ref`
 /// (at least 0.4 s long) gives one point, averaged over its last 60 %.
 pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<Vec<SteadyPoint>> {
@@ -309,16 +337,35 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
         .ok_or_else(|| Error::data(name, DataProblem::NoReference))?;
     let dt = rec.sample_period();
     let v_ref: Vec<f64> = x_ref.windows(2).map(|w| (w[1] - w[0]) / dt).collect();
+    // a logger that writes the reference rounded (to the encoder's count, or to a fixed
+    // number of digits) makes its steps jitter by one unit: allowed, against the leg's mean
+    let jitter = 1.5 * encoder_resolution(x_ref) / dt;
     let mut points = Vec::new();
     let mut i = 0;
     while i < v_ref.len() {
-        let v = v_ref[i];
         let mut j = i;
-        while j < v_ref.len() && (v_ref[j] - v).abs() <= 1e-3 * v.abs().max(1e-6) {
+        let mut sum = 0.0;
+        while j < v_ref.len() {
+            let v = if j > i {
+                sum / (j - i) as f64
+            } else {
+                v_ref[i]
+            };
+            if (v_ref[j] - v).abs() > 1e-3 * v.abs().max(1e-6) + jitter {
+                break;
+            }
+            sum += v_ref[j];
             j += 1;
         }
-        if v.abs() > 1e-5 && (j - i) as f64 * dt >= 0.4 {
-            points.push(experiments::steady_point(rec, i + (j - i) * 2 / 5, j, mass));
+        let v = sum / (j - i).max(1) as f64;
+        let window = i + (j - i) * 2 / 5..j;
+        if v.abs() > 1e-5 && (j - i) as f64 * dt >= 0.4 && slides_steadily(&rec.x, window.clone()) {
+            points.push(experiments::steady_point(
+                rec,
+                window.start,
+                window.end,
+                mass,
+            ));
         }
         i = j.max(i + 1);
     }

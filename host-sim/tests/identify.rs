@@ -342,3 +342,34 @@ fn records_with_rig_habits_go_through_identification() {
         "{r:?} vs {c:?}"
     );
 }
+
+/// The reading's count and the force's noise are measured from the record: a 0.1 um count
+/// even where every step is several counts (a reference rounded to 0.1 um moving 0.5 um a
+/// period), none for an unquantised reading, and white noise's standard deviation under a
+/// smooth force.
+#[test]
+fn count_and_force_noise_are_measured_from_the_record() {
+    let rounded: Vec<f64> = (0..500)
+        .map(|k| (0.05 + 4.7e-7 * k as f64 / 1e-7).round() * 1e-7)
+        .collect();
+    let q = identify::encoder_resolution(&rounded);
+    assert!((q / 1e-7 - 1.0).abs() < 1e-6, "{q:e}");
+    let smooth: Vec<f64> = (0..500).map(|k| 1e-3 * (k as f64 * 0.01).sin()).collect();
+    assert_eq!(identify::encoder_resolution(&smooth), 0.0);
+    // a smooth force plus a deterministic white-ish sequence of standard deviation 10 N
+    let mut state = 12345u64;
+    let force: Vec<f64> = (0..20_000)
+        .map(|k| {
+            let mut sum = 0.0;
+            for _ in 0..12 {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                sum += (state >> 11) as f64 / (1u64 << 53) as f64;
+            }
+            300.0 * (k as f64 * 1e-3).sin() + 10.0 * (sum - 6.0)
+        })
+        .collect();
+    let sigma = identify::force_noise(&force);
+    assert!((sigma / 10.0 - 1.0).abs() < 0.05, "{sigma}");
+}

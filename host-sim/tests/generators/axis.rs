@@ -576,14 +576,7 @@ fn schedule(axis: &Axis, rng: &mut Rng) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         xr.extend(std::iter::repeat_n(x, dwell));
     }
     xr.truncate(n);
-    let mut vr = vec![0.0; n];
-    let mut ar = vec![0.0; n];
-    for i in 1..n - 1 {
-        vr[i] = (xr[i + 1] - xr[i - 1]) / (2.0 * DT);
-    }
-    for i in 1..n - 1 {
-        ar[i] = (vr[i + 1] - vr[i - 1]) / (2.0 * DT);
-    }
+    let (vr, ar) = derivatives(&xr);
     (xr, vr, ar)
 }
 
@@ -600,6 +593,34 @@ fn sqrt_flow(dp: f64) -> f64 {
 pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
     let mut rng = Rng::new(seed);
     let (xr, vr, ar) = schedule(axis, &mut rng);
+    simulate(axis, &mut rng, &xr, &vr, &ar)
+}
+
+/// The axis run along a reference position `xr` (one value per sample) \[m\] of the caller's
+/// design, as [`record`] runs it along its random schedule: the CSV text and the hidden
+/// effect's visibility.
+#[allow(dead_code)]
+pub fn record_along(axis: &Axis, seed: u64, xr: &[f64]) -> (String, f64) {
+    let mut rng = Rng::new(seed);
+    let (vr, ar) = derivatives(xr);
+    simulate(axis, &mut rng, xr, &vr, &ar)
+}
+
+/// Reference velocity and acceleration of a reference position, by central differences.
+fn derivatives(xr: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let n = xr.len();
+    let mut vr = vec![0.0; n];
+    let mut ar = vec![0.0; n];
+    for i in 1..n.saturating_sub(1) {
+        vr[i] = (xr[i + 1] - xr[i - 1]) / (2.0 * DT);
+    }
+    for i in 1..n.saturating_sub(1) {
+        ar[i] = (vr[i + 1] - vr[i - 1]) / (2.0 * DT);
+    }
+    (vr, ar)
+}
+
+fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64], vr: &[f64], ar: &[f64]) -> (String, f64) {
     let n = xr.len();
     let h = DT / SUB as f64;
     let m = axis.mass_kg;
