@@ -126,7 +126,7 @@ fn identification_chapter(out: &Path) -> Result<()> {
     super::identify::print_table(&[&r], Some(&truth));
     super::identify::print_identifiability(&r);
     println!(
-        "  The 0.1 um encoder limits sigma0 (a reversal's pre-sliding travel is ~0.3 um); sigma1's\n  force (< 0.1 N at 1 kHz) is far below the pressure noise: see README, Identification."
+        "  The 0.1 um encoder counts a reversal's pre-sliding travel (~0.3 um) in three steps: sigma0\n  is read at the counts' edges, which leaves its interval wide; sigma1's force (< 0.1 N at\n  1 kHz) is far below the pressure noise: see README, Identification."
     );
     let params = identify::params_of(&runs[0]).ok_or(Error::InvalidIdentifiedSet)?;
     super::identify::write_params(
