@@ -166,9 +166,15 @@ fn main() {
         done.len()
     );
     println!("parameter   median error (all)   flagged identified   median error (those)");
-    for (k, name) in ["sigma0", "sigma1", "sigma2", "Fc", "Fs-Fc", "vs"].iter().enumerate() {
+    for (k, name) in ["sigma0", "sigma1", "sigma2", "Fc", "Fs-Fc", "vs"]
+        .iter()
+        .enumerate()
+    {
         let (all, _) = median(k, false);
         let (those, n_id) = median(k, true);
-        println!("{name:8} {all:15.1} % {n_id:14}/{:<2} {those:18.1} %", done.len());
+        println!(
+            "{name:8} {all:15.1} % {n_id:14}/{:<2} {those:18.1} %",
+            done.len()
+        );
     }
 }
