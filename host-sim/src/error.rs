@@ -169,11 +169,26 @@ pub enum DataProblem {
     /// A sweep record without a reference position.
     #[error("the sweep record needs an x_ref column to find its constant-velocity legs")]
     NoReference,
-    /// A sweep record with too few constant-velocity legs.
+    /// A sweep record with too few steady constant-velocity legs.
     #[error(
-        "found {0} constant-velocity legs of at least 0.4 s, need 6 or more for the static stage"
+        "found {found} steady constant-velocity legs of at least 0.4 s, need 6 or more for the \
+         static stage{}",
+        if *.unsteady > 0 {
+            format!(
+                " ({unsteady} more left out: the axis did not slide steadily on them, as in \
+                 stick-slip; slower legs are where it sets in, so raise the slowest speed or \
+                 the loop's stiffness)"
+            )
+        } else {
+            String::new()
+        }
     )]
-    TooFewLegs(usize),
+    TooFewLegs {
+        /// Steady legs found.
+        found: usize,
+        /// Legs long enough but left out as not sliding steadily.
+        unsteady: usize,
+    },
 }
 
 fn known_effects() -> String {

@@ -373,3 +373,68 @@ fn count_and_force_noise_are_measured_from_the_record() {
     let sigma = identify::force_noise(&force);
     assert!((sigma / 10.0 - 1.0).abs() < 0.05, "{sigma}");
 }
+
+/// A sweep as a rig logs it: eight legs out and back (0.5..100 mm/s, 0.8 s each, 0.3 s
+/// rests) with a reference rounded to 0.1 um, and a friction force of `F(v) = 300 sign(v) +
+/// 1000 v`; `stick_slip` makes the slowest leg out move in jumps (still for 45 ms, then a
+/// 5 ms slide) with a force whose mean is 100 N below the steady friction.
+fn logged_sweep(stick_slip: bool) -> Record {
+    let dt = 1e-3;
+    let speeds: Vec<f64> = (0..8)
+        .map(|i| 5e-4 * (0.1f64 / 5e-4).powf(i as f64 / 7.0))
+        .collect();
+    let (mut x_ref, mut x, mut force) = (vec![0.0; 300], vec![0.0; 300], vec![0.0; 300]);
+    for (leg, &v) in speeds.iter().enumerate() {
+        for dir in [1.0, -1.0] {
+            let (r0, x0) = (*x_ref.last().unwrap(), *x.last().unwrap());
+            let jumpy = stick_slip && leg == 0 && dir > 0.0;
+            for k in 1..=800 {
+                x_ref.push(r0 + dir * v * k as f64 * dt);
+                let (pos, f) = if jumpy {
+                    // 50 ms cycles: still for 45 ms, then the whole cycle's travel in 5 ms
+                    let cycle = (k / 50) as f64;
+                    let within = (k % 50) as f64;
+                    let slid = ((within - 45.0) / 5.0).clamp(0.0, 1.0);
+                    let p = x0 + v * 50.0 * dt * (cycle + slid);
+                    (p, 300.0 + 1000.0 * v - 100.0)
+                } else {
+                    (x0 + dir * v * k as f64 * dt, dir * 300.0 + 1000.0 * dir * v)
+                };
+                x.push(pos);
+                force.push(f);
+            }
+            let (r1, x1) = (*x_ref.last().unwrap(), *x.last().unwrap());
+            x_ref.extend(std::iter::repeat_n(r1, 300));
+            x.extend(std::iter::repeat_n(x1, 300));
+            force.extend(std::iter::repeat_n(0.0, 300));
+        }
+    }
+    Record {
+        t: (0..x.len()).map(|k| k as f64 * dt).collect(),
+        x_ref: Some(x_ref.iter().map(|r| (r / 1e-7).round() * 1e-7).collect()),
+        x,
+        force,
+        ..Default::default()
+    }
+}
+
+/// The sweep's legs are found under a reference rounded to 0.1 um (every step of a leg
+/// jitters by one unit), each point at its leg's speed and force; a leg in stick-slip is
+/// left out, because its mean force is not the steady friction at its mean speed.
+#[test]
+fn sweep_legs_survive_a_rounded_reference_and_stick_slip_legs_are_left_out() {
+    let points = identify::steady_points_from_record(&logged_sweep(false), 100.0, "s.csv")
+        .expect("a clean sweep");
+    assert_eq!(points.len(), 16, "{points:?}");
+    for p in &points {
+        let expected = 300.0 * p.velocity.signum() + 1000.0 * p.velocity;
+        assert!((p.force - expected).abs() < 1.0, "{p:?} vs {expected}");
+    }
+    let points = identify::steady_points_from_record(&logged_sweep(true), 100.0, "s.csv")
+        .expect("a sweep with one leg in stick-slip");
+    assert_eq!(points.len(), 15, "{points:?}");
+    assert!(
+        points.iter().all(|p| (p.velocity - 5e-4).abs() > 1e-4),
+        "{points:?}"
+    );
+}
