@@ -14,18 +14,17 @@
 mod generators;
 
 use generators::axis::{record_along, Axis, DT};
+use host_sim::experiments;
 use host_sim::identify::{self, Algorithm, IdentData};
 use host_sim::record::Record;
+use host_sim::stats::median;
 use lugre_servo::friction::LugreParams;
 use rayon::prelude::*;
 use std::path::Path;
 
 fn sweep_reference(stroke_m: f64) -> Vec<f64> {
     let mut xr = vec![0.0; 300];
-    let speeds: Vec<f64> = (0..8)
-        .map(|i| 5e-4 * (0.1f64 / 5e-4).powf(i as f64 / 7.0))
-        .collect();
-    for v in speeds {
+    for v in experiments::log_speeds(5e-4, 0.1, 8) {
         let leg = 0.8f64.min(0.4 * stroke_m / v);
         let steps = (leg / DT) as usize;
         for dir in [1.0, -1.0] {
@@ -147,14 +146,13 @@ fn main() {
         println!("{}", o.line);
     }
     let done: Vec<&Outcome> = out.iter().filter(|o| o.errors.is_some()).collect();
-    let median = |k: usize, only_identified: bool| {
-        let mut v: Vec<f64> = done
+    let median_error = |k: usize, only_identified: bool| {
+        let v: Vec<f64> = done
             .iter()
             .filter(|o| !only_identified || o.identified[k])
             .map(|o| o.errors.unwrap()[k])
             .collect();
-        v.sort_by(f64::total_cmp);
-        (v.get(v.len() / 2).copied().unwrap_or(f64::NAN), v.len())
+        (median(&v), v.len())
     };
     println!(
         "{} axes, {} identified ({} read at the edges), {:.0} s; sigma0 interval holds the truth {}/{}",
@@ -170,8 +168,8 @@ fn main() {
         .iter()
         .enumerate()
     {
-        let (all, _) = median(k, false);
-        let (those, n_id) = median(k, true);
+        let (all, _) = median_error(k, false);
+        let (those, n_id) = median_error(k, true);
         println!(
             "{name:8} {all:15.1} % {n_id:14}/{:<2} {those:18.1} %",
             done.len()

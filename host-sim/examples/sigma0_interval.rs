@@ -4,6 +4,7 @@
 //! `cargo run --release -p host-sim --example sigma0_interval [-- N]`
 use host_sim::identify::*;
 use host_sim::plant::{PlantConfig, SensorConfig};
+use host_sim::stats::median;
 use lugre_servo::friction::LugreParams;
 use rayon::prelude::*;
 
@@ -28,14 +29,10 @@ fn main() {
     for (seed, err, i, holds) in &runs {
         println!("seed {seed:2}  sigma0 {err:+6.2} %  95 % interval [{:.3e}, {:.3e}]  holds the truth: {holds}", i[0], i[1]);
     }
-    let median = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
     println!(
         "median |error| {:.2} %, median signed {:+.2} %, interval holds the truth {}/{n}",
-        median(runs.iter().map(|r| r.1.abs()).collect()),
-        median(runs.iter().map(|r| r.1).collect()),
+        median(&runs.iter().map(|r| r.1.abs()).collect::<Vec<_>>()),
+        median(&runs.iter().map(|r| r.1).collect::<Vec<_>>()),
         runs.iter().filter(|r| r.3).count()
     );
 }

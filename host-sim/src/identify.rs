@@ -28,7 +28,7 @@ use crate::signal::integrated_autocorrelation_time;
 use lugre_servo::friction::{LugreParams, LugreState};
 use lugre_servo::identify::cost::{self, DynamicRecord, SteadyPoint};
 use lugre_servo::identify::ga::{Ga, GaConfig, Strategy, HANDOVER_BUDGET_PER_GENE};
-use lugre_servo::identify::{DYNAMIC_BOUNDS, STATIC_BOUNDS};
+use lugre_servo::identify::{Bounds, STATIC_BOUNDS, WIDE_DYNAMIC_BOUNDS};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
@@ -90,9 +90,10 @@ pub struct IdentData {
     pub encoder_resolution_m: f64,
     /// White noise of the dynamic record's force \[N\] (see [`force_noise`]).
     pub force_noise_n: f64,
-    /// Search range of the dynamic stage: [`DynamicSearch::Wide`] for records (measured,
-    /// or simulated through the record functions), Table 1 for the ideal data.
-    pub dynamic_search: DynamicSearch,
+    /// Search ranges of the dynamic stage: `WIDE_DYNAMIC_BOUNDS` for records (measured, or
+    /// simulated through the record functions), Table 1's `DYNAMIC_BOUNDS` for the ideal
+    /// data.
+    pub dynamic_bounds: Bounds<2>,
 }
 
 /// Sweep velocities: 12 log-spaced speeds 0.5 mm/s .. 0.1 m/s, both directions.
@@ -148,7 +149,7 @@ pub fn ideal_data(truth: &LugreParams<f64>) -> IdentData {
         dt,
         encoder_resolution_m: 0.0,
         force_noise_n: 0.0,
-        dynamic_search: DynamicSearch::Table1,
+        dynamic_bounds: lugre_servo::identify::DYNAMIC_BOUNDS,
     }
 }
 
@@ -178,7 +179,7 @@ pub fn realistic_data_with(cfg: &PlantConfig, sensors: SensorConfig) -> IdentDat
         dt: 1e-3,
         encoder_resolution_m: 0.0,
         force_noise_n: 0.0,
-        dynamic_search: DynamicSearch::Table1,
+        dynamic_bounds: lugre_servo::identify::DYNAMIC_BOUNDS,
     };
     let mut d = dynamic_from_record(&dynamic_experiment(cfg, sensors), mass, "simulated dynamic")
         .unwrap_or(empty);
@@ -246,7 +247,7 @@ pub fn dynamic_from_record(rec: &Record, mass: f64, name: &str) -> Result<IdentD
         points: vec![],
         encoder_resolution_m: if coarse { resolution } else { 0.0 },
         force_noise_n: force_noise(&force),
-        dynamic_search: DynamicSearch::Wide,
+        dynamic_bounds: WIDE_DYNAMIC_BOUNDS,
         velocity,
         force,
         dt: p.dt,
@@ -338,9 +339,12 @@ fn slides_steadily(x: &[f64], window: std::ops::Range<usize>, resolution: f64) -
         return true;
     }
     let per_sample = (x[window.end - 1] - x[window.start]) / (n - 1) as f64;
+    if per_sample == 0.0 || per_sample.is_nan() {
+        return false; // the axis did not move at all
+    }
     let part = ((STEADY_SUBWINDOW_COUNTS * resolution / per_sample.abs()).ceil() as usize)
         .max(STEADY_SUBWINDOW_MIN);
-    if 2 * part > n {
+    if n / part < 2 {
         return true; // too short to judge at this count
     }
     (0..n / part).all(|k| {
@@ -368,21 +372,17 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
     let mut unsteady = 0;
     let mut i = 0;
     while i < v_ref.len() {
-        let mut j = i;
-        let mut sum = 0.0;
+        // the leg: the samples that stay with the running mean of those before them
+        let (mut sum, mut j) = (v_ref[i], i + 1);
         while j < v_ref.len() {
-            let v = if j > i {
-                sum / (j - i) as f64
-            } else {
-                v_ref[i]
-            };
+            let v = sum / (j - i) as f64;
             if (v_ref[j] - v).abs() > 1e-3 * v.abs().max(1e-6) + jitter {
                 break;
             }
             sum += v_ref[j];
             j += 1;
         }
-        let v = sum / (j - i).max(1) as f64;
+        let v = sum / (j - i) as f64;
         let window = i + (j - i) * 2 / 5..j;
         if v.abs() > 1e-5 && (j - i) as f64 * dt >= 0.4 {
             if slides_steadily(&rec.x, window.clone(), resolution) {
@@ -396,7 +396,7 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
                 unsteady += 1;
             }
         }
-        i = j.max(i + 1);
+        i = j;
     }
     if points.len() < 6 {
         return Err(Error::data(
@@ -428,49 +428,6 @@ pub struct Identifiability {
     pub identifiable: bool,
 }
 
-/// Genes in [0, 1] to physical values.
-type Decode<const N: usize> = dyn Fn(&[f64; N]) -> [f64; N] + Sync;
-
-/// Search range of the dynamic stage.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum DynamicSearch {
-    /// Table 1: sigma0 in [0, 5e9] N/m and sigma1 in [0, 1000] N s/m, both linear (the paper's
-    /// setting, and the benchmark's ideal data).
-    Table1,
-    /// Measured records: sigma0 log-uniform over [1e5, 1e10] N/m (pre-sliding lengths from
-    /// millimetres to tenths of a micrometre), sigma1 as Table 1. Table 1's linear sigma0
-    /// gene spends 1e-4 of its range below 5e5 N/m: on four of twelve independent axes
-    /// (`examples/identify_independent.rs`, soft seals) sigma0 ended on its lower bound.
-    ///
-    /// sigma1 keeps Table 1's [0, 1000] N s/m although a damped soft contact has up to 8e5:
-    /// tried as a damping ratio of the bristle on the moving mass (`zeta 2 sqrt(sigma0 M)`,
-    /// zeta in [0, 2]), it fixed one independent axis (sigma0 478 % -> 26 %) but where
-    /// sigma1 is not identifiable (every realistic run) its posterior mean over that range
-    /// is near critical damping, 1.8e6 N s/m for Table 2 (truth 200), and pulled sigma0 to
-    /// 23 %. Left open.
-    Wide,
-}
-
-impl DynamicSearch {
-    /// `[sigma0 [N/m], sigma1 [N s/m]]` of genes in [0, 1].
-    pub fn decode(&self, genes: &[f64; 2]) -> [f64; 2] {
-        match *self {
-            Self::Table1 => DYNAMIC_BOUNDS.decode(genes),
-            Self::Wide => {
-                let [g0, g1] = genes.map(|g| g.clamp(0.0, 1.0));
-                [
-                    WIDE_SIGMA0_N_PER_M[0]
-                        * (WIDE_SIGMA0_N_PER_M[1] / WIDE_SIGMA0_N_PER_M[0]).powf(g0),
-                    DYNAMIC_BOUNDS.lo[1] + g1 * (DYNAMIC_BOUNDS.hi[1] - DYNAMIC_BOUNDS.lo[1]),
-                ]
-            }
-        }
-    }
-}
-
-/// sigma0's range of [`DynamicSearch::Wide`] \[N/m\] (log-uniform).
-pub const WIDE_SIGMA0_N_PER_M: [f64; 2] = [1e5, 1e10];
-
 /// Grid of the identifiability scan (points over the search range).
 const SCAN_POINTS: usize = 201;
 
@@ -478,7 +435,7 @@ const SCAN_POINTS: usize = 201;
 /// units, and the posterior mean as a gene.
 fn identifiability<const N: usize>(
     cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
-    decode: &Decode<N>,
+    bounds: &Bounds<N>,
     best: &[f64; N],
     j_min: f64,
     n_eff: f64,
@@ -487,7 +444,7 @@ fn identifiability<const N: usize>(
     let at = |g: f64| {
         let mut x = *best;
         x[k] = g;
-        decode(&x)[k]
+        bounds.decode(&x)[k]
     };
     let sharp = Identifiability {
         posterior_mean: at(best[k]),
@@ -526,14 +483,14 @@ fn identifiability<const N: usize>(
 /// independent samples); genes the data does not bound move to their posterior mean.
 fn scan_stage<const N: usize>(
     cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
-    decode: &Decode<N>,
+    bounds: &Bounds<N>,
     genes: &mut [f64; N],
     j_min: f64,
     n_eff: f64,
 ) -> [Identifiability; N] {
     let optimum = *genes;
     core::array::from_fn(|k| {
-        let (id, mean_gene) = identifiability(cost, decode, &optimum, j_min, n_eff, k);
+        let (id, mean_gene) = identifiability(cost, bounds, &optimum, j_min, n_eff, k);
         if !id.identifiable {
             genes[k] = mean_gene;
         }
@@ -738,8 +695,7 @@ pub fn identify(
         encoder_resolution: data.encoder_resolution_m,
         force_noise: data.force_noise_n,
     };
-    let search = data.dynamic_search;
-    let dynamic_decode = move |g: &[f64; 2]| search.decode(g);
+    let search = data.dynamic_bounds;
     let dynamic_cost = |g: &[f64; 2]| cost::dynamic_cost(&sv, &search.decode(g), &rec);
     let dynamic_good = |g: &[f64; 2]| {
         let Some(t) = t else { return false };
@@ -761,24 +717,28 @@ pub fn identify(
     if cs > 0.0 && cd > 0.0 && cs.is_finite() && cd.is_finite() {
         let [fc, dfs, s2, vs] = scan_stage(
             &static_cost,
-            &|g: &[f64; 4]| STATIC_BOUNDS.decode(g),
+            &STATIC_BOUNDS,
             &mut gs,
             cs,
             data.points.len() as f64,
         );
-        let n_dyn = match cost::quantised_fit(&sv, &search.decode(&gd), &rec) {
+        let dv = search.decode(&gd);
+        let quantised = (rec.encoder_resolution > 0.0)
+            .then(|| cost::quantised_fit(&sv, &dv, &rec))
+            .flatten();
+        let n_dyn = match quantised {
             // a chi-square of known variances: its likelihood is exp(-chi2 / 2), unless the
             // fit is worse than the noise explains (chi2 above its terms), when the
             // variances are scaled up to match
-            Some(fit) if rec.encoder_resolution > 0.0 => (fit.terms as f64).min(fit.chi_square),
-            _ => {
-                let residual: Vec<f64> = cost::dynamic_residuals(&sv, &search.decode(&gd), &rec)
+            Some(fit) => (fit.terms as f64).min(fit.chi_square),
+            None => {
+                let residual: Vec<f64> = cost::dynamic_residuals(&sv, &dv, &rec)
                     .map(Iterator::collect)
                     .unwrap_or_default();
                 residual.len() as f64 / integrated_autocorrelation_time(&residual)
             }
         };
-        let [s0, s1] = scan_stage(&dynamic_cost, &dynamic_decode, &mut gd, cd, n_dyn);
+        let [s0, s1] = scan_stage(&dynamic_cost, &search, &mut gd, cd, n_dyn);
         ident = [s0, s1, s2, fc, dfs, vs].map(Some);
         scan_evals = 6 * SCAN_POINTS;
     }

@@ -380,9 +380,7 @@ fn count_and_force_noise_are_measured_from_the_record() {
 /// 5 ms slide) with a force whose mean is 100 N below the steady friction.
 fn logged_sweep(stick_slip: bool) -> Record {
     let dt = 1e-3;
-    let speeds: Vec<f64> = (0..8)
-        .map(|i| 5e-4 * (0.1f64 / 5e-4).powf(i as f64 / 7.0))
-        .collect();
+    let speeds = host_sim::experiments::log_speeds(5e-4, 0.1, 8);
     let (mut x_ref, mut x, mut force) = (vec![0.0; 300], vec![0.0; 300], vec![0.0; 300]);
     for (leg, &v) in speeds.iter().enumerate() {
         for dir in [1.0, -1.0] {
@@ -432,6 +430,28 @@ fn sweep_legs_survive_a_rounded_reference_and_stick_slip_legs_are_left_out() {
     }
     let points = identify::steady_points_from_record(&logged_sweep(true), 100.0, "s.csv")
         .expect("a sweep with one leg in stick-slip");
+    assert_eq!(points.len(), 15, "{points:?}");
+    assert!(
+        points.iter().all(|p| (p.velocity - 5e-4).abs() > 1e-4),
+        "{points:?}"
+    );
+}
+
+/// A leg on which a quantised reading does not move at all (the axis stuck for the whole
+/// leg) is left out, not divided by its zero travel.
+#[test]
+fn a_leg_without_motion_is_left_out() {
+    let mut rec = logged_sweep(false);
+    // the first leg out: samples 301..=1100; the axis stays where it started
+    let start = rec.x[300];
+    for x in &mut rec.x[301..=1100] {
+        *x = start;
+    }
+    for x in &mut rec.x {
+        *x = (*x / 1e-7).round() * 1e-7;
+    }
+    let points = identify::steady_points_from_record(&rec, 100.0, "s.csv")
+        .expect("fifteen steady legs remain");
     assert_eq!(points.len(), 15, "{points:?}");
     assert!(
         points.iter().all(|p| (p.velocity - 5e-4).abs() > 1e-4),

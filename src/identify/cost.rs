@@ -150,6 +150,60 @@ const SLOW_COUNTS_PER_PERIOD: f64 = 1.5;
 /// faster one would have moved the reading by more than the slow stretch allows.
 const INVERSION_COUNTS_PER_PERIOD: f64 = 3.0;
 
+/// The slow stretches of a quantised reading, from the reading alone (never the model): a
+/// stretch opens once the reading has held still for [`HOLD_PERIODS`] (the axis sticks)
+/// and closes at the first period that moves more than [`SLOW_COUNTS_PER_PERIOD`].
+/// [`quantised_fit`] and [`crossings_per_stretch`] both read the record through it.
+#[derive(Clone, Copy, Debug)]
+struct StretchRule {
+    /// Largest displacement of a slow period \[m\].
+    slow_m: f64,
+    /// Periods the reading has held still.
+    held: usize,
+    open: bool,
+}
+
+/// Where a period falls for [`StretchRule`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Period {
+    /// Outside any stretch.
+    Outside,
+    /// In a stretch (including the one that opens it).
+    Inside,
+    /// The fast period that ends a stretch (itself outside).
+    Closes,
+}
+
+impl StretchRule {
+    fn new(resolution: f64) -> Self {
+        Self {
+            slow_m: SLOW_COUNTS_PER_PERIOD * resolution,
+            held: 0,
+            open: false,
+        }
+    }
+
+    /// Classifies the next period, of reading change `step` \[m\].
+    fn next(&mut self, step: f64) -> Period {
+        if libm::fabs(step) > self.slow_m || step.is_nan() {
+            let closes = self.open;
+            (self.open, self.held) = (false, 0);
+            return if closes {
+                Period::Closes
+            } else {
+                Period::Outside
+            };
+        }
+        self.held = if step == 0.0 { self.held + 1 } else { 0 };
+        self.open |= self.held >= HOLD_PERIODS;
+        if self.open {
+            Period::Inside
+        } else {
+            Period::Outside
+        }
+    }
+}
+
 /// The dynamic stage on a quantised reading, as an errors-in-variables problem.
 ///
 /// **Why.** A reading `c_k` says only that the true position lies within half a count `q`
@@ -216,54 +270,42 @@ pub fn quantised_fit(
     // the reading relative to the first one [m]
     let mut reading = 0.0;
     let mut stretch: Option<Stretch> = None;
-    // periods the reading has held still
-    let mut held = 0usize;
+    let mut rule = StretchRule::new(q);
+    // the first period, from k on, that a stretch will include (n: none), found by running
+    // a copy of the rule ahead
     let n = rec.velocity.len().min(rec.force.len());
-    // the next period at which the reading has held still for HOLD_PERIODS (n: none)
-    let mut next_hold = 0;
+    let mut next_inside = 0;
     let mut warm = false;
     for (k, (&v, &f)) in rec.velocity.iter().zip(rec.force).enumerate() {
-        if stretch.is_none() {
-            // far from the next hold the model's state is not needed: in sliding the
-            // deflection forgets its past within a few periods, so the model is run only
-            // over the WARM_UP_PERIODS before each hold, from the steady deflection
-            if next_hold < k {
-                next_hold = k;
-                while next_hold < n
-                    && !(next_hold + 1 >= HOLD_PERIODS
-                        && rec.velocity[next_hold + 1 - HOLD_PERIODS..=next_hold]
-                            .iter()
-                            .all(|&u| u == 0.0))
-                {
-                    next_hold += 1;
-                }
-            }
-            if next_hold > k + WARM_UP_PERIODS {
-                reading += v * dt;
-                warm = false;
-                continue;
-            }
-            if !warm {
-                warm = true;
-                z = if v == 0.0 {
-                    0.0
-                } else {
-                    libm::copysign(p.stribeck_curve(v) / p.bristle_stiffness(), v)
-                };
-            }
-        }
-        if libm::fabs(v * dt) > SLOW_COUNTS_PER_PERIOD * q || v.is_nan() {
+        let step_m = v * dt;
+        let period = rule.next(step_m);
+        if period != Period::Inside {
             if let Some(s) = stretch.take() {
                 s.close(&mut fit);
             }
-            reading += v * dt;
-            z = step(z, v).1;
-            continue;
-        }
-        held = if v == 0.0 { held + 1 } else { 0 };
-        if stretch.is_none() && held < HOLD_PERIODS {
-            reading += v * dt;
-            z = step(z, v).1;
+            // far from the next stretch the model's state is not needed: in sliding the
+            // deflection forgets its past within a few periods, so the model runs only over
+            // the WARM_UP_PERIODS before each stretch, from the steady deflection
+            if next_inside <= k {
+                let mut ahead = rule;
+                next_inside = (k + 1..n)
+                    .find(|&j| ahead.next(rec.velocity[j] * dt) == Period::Inside)
+                    .unwrap_or(n);
+            }
+            if next_inside > k + WARM_UP_PERIODS {
+                warm = false;
+            } else {
+                if !warm {
+                    warm = true;
+                    z = if v == 0.0 {
+                        0.0
+                    } else {
+                        libm::copysign(p.stribeck_curve(v) / p.bristle_stiffness(), v)
+                    };
+                }
+                z = step(z, v).1;
+            }
+            reading += step_m;
             continue;
         }
         let s = stretch.get_or_insert(Stretch::at(reading));
@@ -308,7 +350,7 @@ pub fn quantised_fit(
                 + MODEL_FLOOR_COUNTS * MODEL_FLOOR_COUNTS * q * q;
             s.add(e, var);
         }
-        reading += v * dt;
+        reading += step_m;
         z = z_hat;
     }
     if let Some(s) = stretch.take() {
@@ -323,28 +365,21 @@ pub fn quantised_fit(
 /// count is next to the pre-sliding travel: a flip seen in a few counts needs the edges, a
 /// flip seen in tens of counts is read well enough by the staircase itself.
 pub fn crossings_per_stretch(velocity: &[f64], dt: f64, resolution: f64) -> f64 {
-    let (mut stretches, mut crossings) = (0usize, 0usize);
-    let (mut open, mut held, mut in_this) = (false, 0usize, 0usize);
-    for &v in velocity {
-        if libm::fabs(v * dt) > SLOW_COUNTS_PER_PERIOD * resolution || v.is_nan() {
-            if open && in_this > 0 {
-                stretches += 1;
-                crossings += in_this;
+    let mut rule = StretchRule::new(resolution);
+    let (mut stretches, mut crossings, mut in_this) = (0usize, 0usize, 0usize);
+    // a trailing period closes the last stretch
+    for &v in velocity.iter().chain(core::iter::once(&f64::INFINITY)) {
+        match rule.next(v * dt) {
+            Period::Inside if v != 0.0 => in_this += 1,
+            Period::Closes => {
+                if in_this > 0 {
+                    stretches += 1;
+                    crossings += in_this;
+                }
+                in_this = 0;
             }
-            (open, held, in_this) = (false, 0, 0);
-            continue;
+            _ => {}
         }
-        held = if v == 0.0 { held + 1 } else { 0 };
-        if !open && held >= HOLD_PERIODS {
-            open = true;
-        }
-        if open && v != 0.0 {
-            in_this += 1;
-        }
-    }
-    if open && in_this > 0 {
-        stretches += 1;
-        crossings += in_this;
     }
     if stretches == 0 {
         0.0

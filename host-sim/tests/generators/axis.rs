@@ -495,8 +495,8 @@ pub fn truth_error_pct(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -
     p.rel_err_pct(&force)
 }
 
-/// Reference trajectory at 1 kHz: position, velocity, acceleration.
-fn schedule(axis: &Axis, rng: &mut Rng) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+/// Reference position at 1 kHz \[m\]: the random schedule of moves, sinusoids and dwells.
+fn schedule(axis: &Axis, rng: &mut Rng) -> Vec<f64> {
     let n = (axis.duration_s / DT) as usize;
     let half = 0.45 * axis.stroke_m;
     let mut xr: Vec<f64> = Vec::with_capacity(n + 8000);
@@ -576,8 +576,7 @@ fn schedule(axis: &Axis, rng: &mut Rng) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         xr.extend(std::iter::repeat_n(x, dwell));
     }
     xr.truncate(n);
-    let (vr, ar) = derivatives(&xr);
-    (xr, vr, ar)
+    xr
 }
 
 /// Signed square root, regularised below 1 bar (laminar flow at small pressure drops).
@@ -592,8 +591,8 @@ fn sqrt_flow(dp: f64) -> f64 {
 /// level could absorb (least squares on sign(v) and v), over the rms of the measured force.
 pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
     let mut rng = Rng::new(seed);
-    let (xr, vr, ar) = schedule(axis, &mut rng);
-    simulate(axis, &mut rng, &xr, &vr, &ar)
+    let xr = schedule(axis, &mut rng);
+    simulate(axis, &mut rng, &xr)
 }
 
 /// The axis run along a reference position `xr` (one value per sample) \[m\] of the caller's
@@ -602,8 +601,7 @@ pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
 #[allow(dead_code)]
 pub fn record_along(axis: &Axis, seed: u64, xr: &[f64]) -> (String, f64) {
     let mut rng = Rng::new(seed);
-    let (vr, ar) = derivatives(xr);
-    simulate(axis, &mut rng, xr, &vr, &ar)
+    simulate(axis, &mut rng, xr)
 }
 
 /// Reference velocity and acceleration of a reference position, by central differences.
@@ -620,8 +618,11 @@ fn derivatives(xr: &[f64]) -> (Vec<f64>, Vec<f64>) {
     (vr, ar)
 }
 
-fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64], vr: &[f64], ar: &[f64]) -> (String, f64) {
+/// The axis run along the reference position `xr`, its velocity and acceleration
+/// feed-forward from central differences.
+fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64) {
     let n = xr.len();
+    let (vr, ar) = derivatives(xr);
     let h = DT / SUB as f64;
     let m = axis.mass_kg;
     let omega = std::f64::consts::TAU * axis.loop_hz;
