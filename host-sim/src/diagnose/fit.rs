@@ -806,11 +806,7 @@ pub fn grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     if ib > 0 && ib + 1 < grid.len() {
         let (x0, x1, x2) = (grid[ib - 1], grid[ib], grid[ib + 1]);
         let (y0, y1, y2) = (vals[ib - 1].0, vals[ib].0, vals[ib + 1].0);
-        let den = (x0 - x1) * (x0 - x2) * (x1 - x2);
-        let a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den;
-        let b = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / den;
-        if a > 0.0 {
-            let xv = (-b / (2.0 * a)).clamp(x0, x2);
+        if let Some(xv) = parabola_vertex((x0, y0), (x1, y1), (x2, y2)) {
             let r = f(xv);
             profile.push((xv, r.0));
             if r.0 < best.1 .0 {
@@ -819,6 +815,20 @@ pub fn grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
         }
     }
     (best.0, best.1 .1, profile)
+}
+
+/// The minimum of the parabola through three points (distinct x), within their span; None
+/// when the parabola opens downwards or is degenerate.
+pub fn parabola_vertex(
+    (x0, y0): (f64, f64),
+    (x1, y1): (f64, f64),
+    (x2, y2): (f64, f64),
+) -> Option<f64> {
+    let den = (x0 - x1) * (x0 - x2) * (x1 - x2);
+    let a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den;
+    let b = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / den;
+    let (lo, hi) = (x0.min(x1).min(x2), x0.max(x1).max(x2));
+    (a > 0.0 && a.is_finite() && b.is_finite()).then(|| (-b / (2.0 * a)).clamp(lo, hi))
 }
 
 /// A model with one more effect switched on, its nonlinear parameters set (for the grid).

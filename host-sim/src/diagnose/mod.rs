@@ -433,9 +433,10 @@ fn search_one(
     p: &Prepared,
     fixed_mass: Option<f64>,
     n_eff: f64,
+    refined: bool,
 ) -> Fit {
     let (lo, hi) = which.range(p);
-    let f = search_in(which, (lo, hi), start, p, fixed_mass, n_eff);
+    let f = search_in(which, (lo, hi), start, p, fixed_mass, n_eff, refined);
     let at_top = f
         .flags
         .at_search_edge
@@ -444,7 +445,7 @@ fn search_one(
     if which == Nonlinear::StribeckVelocity && at_top {
         // once more, up to the record's top speed (see STRIBECK_TOP_FRACTION)
         let wide = (lo, (hi / STRIBECK_TOP_FRACTION).max(hi));
-        let wide = search_in(which, wide, &f, p, fixed_mass, n_eff);
+        let wide = search_in(which, wide, &f, p, fixed_mass, n_eff, refined);
         if wide.rss < f.rss {
             return wide;
         }
@@ -459,6 +460,7 @@ fn search_in(
     p: &Prepared,
     fixed_mass: Option<f64>,
     n_eff: f64,
+    refined: bool,
 ) -> Fit {
     let (llo, lhi) = (lo.ln(), hi.ln());
     let eval = |base: &AxisModel, lx: f64| {
@@ -501,6 +503,15 @@ fn search_in(
     if f2.rss < best.rss {
         best = f2;
     }
+    if refined {
+        best = refine(
+            &best,
+            step / 2.0,
+            (llo, lhi),
+            |lx| eval(&centre, lx).1,
+            |f| which.get(&f.model).ln(),
+        );
+    }
     best.flags = inherited;
     let lv = which.get(&best.model).ln();
     if let Some(edge) = [(llo, lo), (lhi, hi)]
@@ -509,6 +520,48 @@ fn search_in(
         .map(|e| e.1)
     {
         best.flags.at_search_edge.push((which.name(), edge));
+    }
+    best
+}
+
+/// Spacing in ln at which [`refine`] stops (2 %). A grid's parabola left sigma0 23 % from
+/// the truth on an independent record whose error that cost 20 % (0.77 % against the true
+/// model's 0.64 %, the other parameters within 2 %).
+pub const REFINE_TOLERANCE_LN: f64 = 0.02;
+
+/// Continuous refinement of a searched parameter in ln around the best fit so far: the
+/// points at `h` either side, the parabola through the three, its vertex; the spacing shrinks
+/// threefold each round until [`REFINE_TOLERANCE_LN`]. Each round costs three refits (two of
+/// them in parallel); the result is never worse than `start`.
+fn refine(
+    start: &Fit,
+    mut h: f64,
+    (llo, lhi): (f64, f64),
+    eval: impl Fn(f64) -> Fit + Sync,
+    ln_of: impl Fn(&Fit) -> f64,
+) -> Fit {
+    let mut best = start.clone();
+    while h > REFINE_TOLERANCE_LN {
+        let xb = ln_of(&best);
+        let sides: Vec<(f64, Fit)> = [(xb - h).max(llo), (xb + h).min(lhi)]
+            .par_iter()
+            .map(|&x| (x, eval(x)))
+            .collect();
+        let (x0, x2) = (sides[0].0, sides[1].0);
+        let (y0, y1, y2) = (sides[0].1.rss, best.rss, sides[1].1.rss);
+        let vertex = fit::parabola_vertex((x0, y0), (xb, y1), (x2, y2));
+        for (_, f) in sides {
+            if f.rss < best.rss {
+                best = f;
+            }
+        }
+        if let Some(xv) = vertex.filter(|v| (v - ln_of(&best)).abs() > 1e-6) {
+            let f = eval(xv.clamp(llo, lhi));
+            if f.rss < best.rss {
+                best = f;
+            }
+        }
+        h /= 3.0;
     }
     best
 }
@@ -623,7 +676,10 @@ pub fn polish(
     };
     for round in 0..rounds {
         for which in searched {
-            let f = search_one(*which, &best, p, fixed_mass, n_eff);
+            // the last round of a full polish (a stage's model, not a candidate's quick re-judging)
+            // ends with a continuous refinement
+            let refined = stiffness && round + 1 == rounds;
+            let f = search_one(*which, &best, p, fixed_mass, n_eff, refined);
             // on the last round a parameter the record does not determine goes to its prior
             // (the profile is flat: the fit changes by less than the 95 % threshold)
             let held = round + 1 == rounds && f.flags.is_prior(which.name());
