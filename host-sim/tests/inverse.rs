@@ -34,15 +34,16 @@ fn a_toggling_count_is_rest_and_slow_motion_is_not() {
             }
         })
         .collect();
-    let rest = reading_at_rest(&x, &[0..n], COUNT, DT);
+    let whole: Vec<std::ops::Range<usize>> = std::iter::once(0..n).collect();
+    let rest = reading_at_rest(&x, &whole, COUNT, DT);
     assert!(rest[..1000].iter().all(|r| *r), "toggling is rest");
     assert!(
         rest[1020..].iter().all(|r| !*r),
         "0.2 mm/s on a 1 um count is motion, to the record's last sample"
     );
-    assert!(reading_at_rest(&x, &[0..n], 0.0, DT).iter().all(|r| !*r));
+    assert!(reading_at_rest(&x, &whole, 0.0, DT).iter().all(|r| !*r));
     // what the threshold means: less than REST_COUNTS counts in 10 ms is slower than STUCK_SPEED
-    assert!(REST_COUNTS * COUNT / 0.01 < STUCK_SPEED);
+    const { assert!(REST_COUNTS * COUNT / 0.01 < STUCK_SPEED) };
 }
 
 fn model() -> AxisModel {
@@ -87,7 +88,8 @@ fn csv(force: &[f64], x: &[f64]) -> String {
 }
 
 /// A force spike in the last sample (a feed-forward step the record ends on) leaves the
-/// true model's error as it was: the record's edges are not scored. Scored, it was the error.
+/// true model's error as it was (within 0.01 % of the force): the record's edges are not
+/// scored. Scored, the spike was the error.
 #[test]
 fn a_force_at_the_last_sample_is_not_scored() {
     let err = |spike: f64| {
@@ -98,5 +100,6 @@ fn a_force_at_the_last_sample_is_not_scored() {
     let (clean, spiked) = (err(0.0), err(20_000.0));
     println!("true model: {clean:.3} % clean, {spiked:.3} % with a spike in the last sample");
     assert!(clean < 5.0, "{clean}");
-    assert!((spiked - clean).abs() < 0.05 * clean, "{clean} -> {spiked}");
+    // with 2 filter periods left out instead of 4 it read 2.7 %
+    assert!((spiked - clean).abs() < 0.01, "{clean} -> {spiked}");
 }

@@ -524,7 +524,7 @@ fn search_in(
     best
 }
 
-/// Spacing in ln at which [`refine`] stops (2 %). A grid's parabola left sigma0 23 % from
+/// Spacing in ln at which the continuous refinement of a stage's sigma0 and vs stops (2 %). A grid's parabola left sigma0 23 % from
 /// the truth on an independent record whose error that cost 20 % (0.77 % against the true
 /// model's 0.64 %, the other parameters within 2 %).
 pub const REFINE_TOLERANCE_LN: f64 = 0.02;
