@@ -32,6 +32,15 @@ pub fn mean(v: &[f64]) -> f64 {
     }
 }
 
+/// Sample standard deviation, `sqrt(sum (v - mean)^2 / (n - 1))` (0 for fewer than two values).
+pub fn std_dev(v: &[f64]) -> f64 {
+    if v.len() < 2 {
+        return 0.0;
+    }
+    let m = mean(v);
+    (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt()
+}
+
 /// Two-sided 95 % quantile of Student's t with `df` degrees of freedom (infinite for none).
 pub fn student_t95(df: usize) -> f64 {
     use statrs::distribution::{ContinuousCDF, StudentsT};

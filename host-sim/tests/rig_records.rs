@@ -113,7 +113,8 @@ fn pressure_dependence_is_found_across_records() {
 // A seal whose friction does not depend on pressure, on a rig whose area-error offset grows
 // with pressure. Until session 7 a false Coulomb trend (-0.14 N/bar, 95 %: -0.18..-0.11):
 // sigma0's range stopped at 1e5 N/m, above this soft seal, and part of the offset leaked into
-// the per-record Coulomb level. Measured now: 0.13 N/bar (95 %: -0.50..0.76), no claim.
+// the per-record Coulomb level. Session 7: 0.13 N/bar (95 %: -0.50..0.76). With sigma2 pooled
+// over the records (session 11): 0.021 N/bar (95 %: -0.017..0.059), no claim.
 #[test]
 fn no_pressure_dependence_is_claimed_when_there_is_none() {
     pressure_case(22, false);
@@ -136,11 +137,16 @@ fn pressure_case(seed: u64, dependent: bool) {
         .find(|t| t.level == "coulomb_force_n" && t.condition == "pressure_bar")
         .unwrap();
     println!("true {:.3} N/bar: {}", seal.coulomb_per_bar, t.sentence());
+    // the seal's sigma2 is one for all records: the Coulomb levels are taken at a pooled one
+    let pooled = a.pooled_viscous.expect("a pooled viscous coefficient");
+    println!("pooled sigma2 {pooled:?}, true {}", seal.viscous);
+    assert!(pooled.value > 0.0 && pooled.std_error > 0.0);
     assert_eq!(t.significant, dependent, "{}", t.sentence());
     // the report: one chart per trend, each with its verdict, and every record in the table
     let html = host_sim::diagnose::report::across_html(&a);
     assert_eq!(html.matches("<svg").count(), a.trends.len());
     assert!(html.contains(&t.sentence().replace('&', "&amp;")));
+    assert!(html.contains("common to all records"));
     assert!(a.records.iter().all(|r| html.contains(&r.name)));
     assert!(
         t.ci_low <= seal.coulomb_per_bar && seal.coulomb_per_bar <= t.ci_high,

@@ -228,6 +228,9 @@ fn run_across(a: &Args, files: &[PathBuf]) -> Result<()> {
     if across.trends.is_empty() {
         println!("  no condition varies across these records");
     }
+    if let Some(pv) = across.pooled_viscous {
+        println!("  {}", diagnose::across::pooled_sentence(pv));
+    }
     println!("({:.2} s)", wall.elapsed().as_secs_f64());
     if let Some(path) = &a.json {
         super::write_json(path, &across)?;

@@ -188,25 +188,51 @@ pub fn residual_effective_samples(p: &Prepared, filtered: &[f64]) -> f64 {
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
 /// `fixed_mass` keeps M as given.
 pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
-    refit_iterations(seed, p, fixed_mass, n_eff, 8)
+    refit_iterations(seed, p, fixed_mass, None, n_eff, 8)
+}
+
+/// [`refit`] with the viscous coefficient held at `viscous_n_s_per_m` \[N s/m\] (it leaves the
+/// regression, like a fixed mass): the other levels as the record sees them once sigma2 is
+/// known from elsewhere (e.g. pooled over records of one seal, see `across`).
+pub fn refit_holding_viscous(
+    seed: &AxisModel,
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+    viscous_n_s_per_m: f64,
+    n_eff: f64,
+) -> Fit {
+    refit_iterations(seed, p, fixed_mass, Some(viscous_n_s_per_m), n_eff, 8)
 }
 
 /// A cheaper refit for grid searches (at most 3 Levenberg-Marquardt iterations: enough to
 /// rank grid points; the winner is then finished with [`refit`]).
 pub fn refit_quick(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
-    refit_iterations(seed, p, fixed_mass, n_eff, 3)
+    refit_iterations(seed, p, fixed_mass, None, n_eff, 3)
 }
 
 fn refit_iterations(
     seed: &AxisModel,
     p: &Prepared,
     fixed_mass: Option<f64>,
+    held_viscous: Option<f64>,
     n_eff: f64,
     iterations: usize,
 ) -> Fit {
     let mut model = *seed;
     if let Some(m) = fixed_mass {
         model.mass_kg = m;
+    }
+    if let Some(s2) = held_viscous {
+        let q = model.friction.params;
+        model.friction.params = LugreParams::new(
+            q.bristle_stiffness(),
+            q.bristle_damping(),
+            s2.max(0.0),
+            q.coulomb_force(),
+            q.static_force(),
+            q.stribeck_velocity(),
+        )
+        .unwrap_or(q);
     }
     // score a model: (weighted RSS, its simulation, its prediction)
     let score = |m: &AxisModel| {
@@ -233,7 +259,7 @@ fn refit_iterations(
     // an iterate scores worse, lowered after a success.
     let mut mu = 1e-6;
     for _ in 0..iterations {
-        let (next, est) = linear_step(&model, &sim, p, fixed_mass, n_eff, mu);
+        let (next, est) = linear_step(&model, &sim, p, fixed_mass, held_viscous, n_eff, mu);
         let (next_rss, next_sim, next_pred) = score(&next);
         if next_rss <= rss {
             let gain = (rss - next_rss) / rss.max(1e-300);
@@ -392,6 +418,7 @@ fn linear_step(
     sim: &Simulation,
     p: &Prepared,
     fixed_mass: Option<f64>,
+    held_viscous: Option<f64>,
     n_eff: f64,
     mu: f64,
 ) -> (AxisModel, Vec<Estimate>) {
@@ -414,12 +441,11 @@ fn linear_step(
     if fixed_mass.is_none() {
         params.push(Param::Mass);
     }
-    params.extend([
-        Param::Coulomb,
-        Param::Static,
-        Param::Viscous,
-        Param::BristleDamping,
-    ]);
+    params.extend([Param::Coulomb, Param::Static]);
+    if held_viscous.is_none() {
+        params.push(Param::Viscous);
+    }
+    params.push(Param::BristleDamping);
     if e.asymmetry.is_some() {
         params.extend([Param::AsymCoulomb, Param::AsymViscous]);
     }

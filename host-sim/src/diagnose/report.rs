@@ -402,6 +402,9 @@ fn across_page(a: &super::across::Across) -> Result<String> {
     if a.trends.is_empty() {
         out += "<p>No condition varies across these records.</p>";
     }
+    if let Some(pv) = a.pooled_viscous {
+        out += &format!("<p>{}</p>", escape(&super::across::pooled_sentence(pv)));
+    }
     out += "<h2>Records</h2><p>Levels with 95 % intervals (block jackknife, Student's t).</p>";
     let rows: Vec<Vec<String>> = a
         .records
