@@ -14,6 +14,7 @@
 //!
 //! [effects.asymmetry]                    # any of the eight effects, all optional
 //! coulomb_ratio = 0.1
+//! static_ratio = 0.05                    # optional: rc when absent (older files)
 //! viscous_ratio = 0.2
 //!
 //! [fit]                                  # optional: how the values were obtained
@@ -84,6 +85,8 @@ mod tables {
     #[serde(deny_unknown_fields)]
     pub struct AsymmetryT {
         pub coulomb_ratio: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub static_ratio: Option<f64>,
         pub viscous_ratio: f64,
     }
     #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -206,6 +209,7 @@ impl ParamFile {
             effects: EffectsSection {
                 asymmetry: e.asymmetry.map(|a| AsymmetryT {
                     coulomb_ratio: a.coulomb_ratio,
+                    static_ratio: Some(a.static_ratio),
                     viscous_ratio: a.viscous_ratio,
                 }),
                 offset: e.offset.map(|o| OffsetT { force_n: o.force }),
@@ -276,12 +280,15 @@ impl ParamFile {
         };
         let mut effects = Effects::none();
         if let Some(a) = e.asymmetry {
-            finite(K::Asymmetry, &[a.coulomb_ratio, a.viscous_ratio])?;
-            if a.coulomb_ratio.abs() >= 1.0 || a.viscous_ratio.abs() >= 1.0 {
+            // a file without `static_ratio` (written before it existed) scales Fs with rc
+            let rs = a.static_ratio.unwrap_or(a.coulomb_ratio);
+            finite(K::Asymmetry, &[a.coulomb_ratio, rs, a.viscous_ratio])?;
+            if a.coulomb_ratio.abs() >= 1.0 || rs.abs() >= 1.0 || a.viscous_ratio.abs() >= 1.0 {
                 return Err(InvalidParams::AsymmetryRatio);
             }
             effects.asymmetry = Some(fx::Asymmetry {
                 coulomb_ratio: a.coulomb_ratio,
+                static_ratio: rs,
                 viscous_ratio: a.viscous_ratio,
             });
         }

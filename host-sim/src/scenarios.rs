@@ -16,6 +16,7 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::R
         K::Asymmetry => {
             e.asymmetry = Some(fx::Asymmetry {
                 coulomb_ratio: 0.15 * s,
+                static_ratio: 0.15 * s,
                 viscous_ratio: 0.25 * s,
             })
         }

@@ -118,6 +118,29 @@ fn parameter_file_messages() {
         m.effects.dwell_stiction.map(|d| d.renewal_distance),
         Some(host_sim::params_file::DEFAULT_RENEWAL_DISTANCE_M)
     );
+    // the static asymmetry ratio: checked like the others; absent (older files) it is rc
+    assert_eq!(
+        read(&format!(
+            "{GOOD}[effects.asymmetry]\ncoulomb_ratio = 0.1\nstatic_ratio = -1.2\nviscous_ratio = 0\n"
+        )),
+        "DIR/p.toml: [effects.asymmetry] ratios must be within (-1, 1)"
+    );
+    std::fs::write(
+        &old,
+        format!("{GOOD}[effects.asymmetry]\ncoulomb_ratio = 0.1\nviscous_ratio = 0.2\n"),
+    )
+    .unwrap();
+    let (_, m) = ParamFile::read(&old).unwrap();
+    assert_eq!(m.effects.asymmetry.map(|a| a.static_ratio), Some(0.1));
+    // and one written now carries it and reads back unchanged
+    let mut m2 = m;
+    if let Some(a) = m2.effects.asymmetry.as_mut() {
+        a.static_ratio = -0.05;
+    }
+    let f = ParamFile::new(&m2, 200.0);
+    f.write_checked(&old).unwrap();
+    let (_, back) = ParamFile::read(&old).unwrap();
+    assert_eq!(back.effects.asymmetry, m2.effects.asymmetry);
     assert!(read("[lugre\n").starts_with("DIR/p.toml:1:"));
     let e = ParamFile::read(Path::new("/nonexistent/p.toml"))
         .unwrap_err()

@@ -7,7 +7,7 @@
 //!
 //! | effect | equation |
 //! | --- | --- |
-//! | `asymmetry` | `Fc, Fs -> (1 ± rc) Fc, (1 ± rc) Fs`, `sigma2 -> (1 ± rv) sigma2`, `+` for v >= 0 |
+//! | `asymmetry` | `Fc -> (1 ± rc) Fc`, `Fs -> (1 ± rs) Fs`, `sigma2 -> (1 ± rv) sigma2`, `+` for v >= 0 |
 //! | `offset` | `F += F0` (constant external force, e.g. gravity on an inclined axis) |
 //! | `load_dependence` | `Fc, Fs += k (p_a + p_b - p_ref)` (seal preload + pressure-energised seal) |
 //! | `position_dependence` | `Fc, Fs += k_x (x - x_c) + sum_j c_j cos(j pi u)`, `u = (x - x_c) / 2L + 1/2` in [0, 1] (friction varying along the stroke) |
@@ -21,8 +21,12 @@ use num_traits::Float;
 /// Direction-dependent friction levels.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Asymmetry<T> {
-    /// `rc`: relative Coulomb/static level change, `+rc` moving in +x, `-rc` in -x [-].
+    /// `rc`: relative Coulomb level change, `+rc` moving in +x, `-rc` in -x [-].
     pub coulomb_ratio: T,
+    /// `rs`: relative static (breakaway) level change, `+rs` moving in +x, `-rs` in -x [-].
+    /// A seal's lip can hold differently from how it slides in each direction; `rs = rc`
+    /// scales the whole Stribeck curve.
+    pub static_ratio: T,
     /// `rv`: relative viscous change, `+rv` moving in +x, `-rv` in -x [-].
     pub viscous_ratio: T,
 }
@@ -298,6 +302,7 @@ impl<T: Float> Effects<T> {
         Effects {
             asymmetry: self.asymmetry.map(|a| Asymmetry {
                 coulomb_ratio: c(a.coulomb_ratio),
+                static_ratio: c(a.static_ratio),
                 viscous_ratio: c(a.viscous_ratio),
             }),
             offset: self.offset.map(|o| Offset { force: c(o.force) }),

@@ -71,7 +71,7 @@ impl<T: ModelFloat> FrictionModel<T> {
                 -T::one()
             };
             coulomb = coulomb * (T::one() + s * a.coulomb_ratio);
-            static_ = static_ * (T::one() + s * a.coulomb_ratio);
+            static_ = static_ * (T::one() + s * a.static_ratio);
             viscous = viscous * (T::one() + s * a.viscous_ratio);
         }
         let mut shift = T::zero();
@@ -202,9 +202,21 @@ impl<T: ModelFloat> FrictionModel<T> {
         let g = self.stribeck_curve(mean_velocity, &l);
         let sigma0 = self.params.bristle_stiffness();
         let b = driven_bristle_step(s.z, drive, mean_velocity, sigma0, g, dt);
-        let bound = l.static_ / sigma0;
+        // The invariant set is sign-wise: z grows positive only while moving in +x, where the
+        // forward levels hold, so `-Fs(-x) / sigma0 <= z <= Fs(+x) / sigma0`. Bounding by the
+        // current direction's Fs alone snapped a bristle loaded forward to the backward static
+        // level the moment the axis crept back (an independent record with 23 % asymmetry held
+        // 469 N at rest where the model dropped to 322 N).
+        let (below, above) = if self.effects.asymmetry.is_some() {
+            (
+                self.levels(-T::one(), c, s.dwell_time).static_ / sigma0,
+                self.levels(T::one(), c, s.dwell_time).static_ / sigma0,
+            )
+        } else {
+            (l.static_ / sigma0, l.static_ / sigma0)
+        };
         // max/min rather than clamp: no panic even for a non-finite bound
-        let z = b.deflection.max(-bound).min(bound);
+        let z = b.deflection.max(-below).min(above);
         s.z = z;
         s.deflection_rate = b.deflection_rate;
         // the levels depend on the velocity only through the direction of `asymmetry`
@@ -249,10 +261,42 @@ mod tests {
     }
 
     #[test]
+    fn a_bristle_loaded_forward_is_not_snapped_to_the_backward_level() {
+        // soft contact, 25 % asymmetry: load the bristle forward to its static level, then
+        // creep back at 10 um/s; the held force unloads continuously (it was clamped at once
+        // to the backward Fs when the bound followed the current direction)
+        let mut m =
+            FrictionModel::plain(LugreParams::new(3e6, 0.0, 0.0, 300.0, 400.0, 0.008).unwrap());
+        m.effects.asymmetry = Some(Asymmetry {
+            coulomb_ratio: 0.25,
+            static_ratio: 0.25,
+            viscous_ratio: 0.0,
+        });
+        let mut s = FrictionState::default();
+        let dt = 1e-3;
+        let mut f = 0.0;
+        // a slow push over two pre-sliding lengths: the bristle heads for g(1 mm/s) = 498 N,
+        // well above the backward static level
+        for _ in 0..300 {
+            f = m.step(&mut s, 1e-3, &REF, dt);
+        }
+        assert!(f > 400.0 && f <= 500.0 + 1e-9, "{f}");
+        let back = m.step(&mut s, -1e-5, &REF, dt);
+        // backward Fs is 300 N; a 10 nm step back unloads the spring by sigma0 dx = 30 mN
+        assert!((back - f).abs() < 1.0, "{f} -> {back}");
+        // and the sign-wise bounds still hold: backward sliding ends at -Fc(-x) = -225 N
+        for _ in 0..2000 {
+            f = m.step(&mut s, -0.05, &REF, dt);
+        }
+        assert!((f + 225.0).abs() < 1.0, "{f}");
+    }
+
+    #[test]
     fn asymmetry_scales_levels_per_direction() {
         let mut m = base();
         m.effects.asymmetry = Some(Asymmetry {
             coulomb_ratio: 0.1,
+            static_ratio: -0.05,
             viscous_ratio: 0.2,
         });
         let v = 0.05; // far past vs: g = Fc
@@ -261,6 +305,12 @@ mod tests {
         let down = -(p.coulomb_force() * 0.9 + p.viscous_coefficient() * 0.8 * v);
         assert!((fss(&m, v, &REF) - up).abs() < 1e-9);
         assert!((fss(&m, -v, &REF) - down).abs() < 1e-9);
+        // the breakaway levels follow rs, not rc
+        let l_up = m.levels(1e-9, &REF, 0.0);
+        let l_down = m.levels(-1e-9, &REF, 0.0);
+        assert!((l_up.static_ - p.static_force() * 0.95).abs() < 1e-9);
+        assert!((l_down.static_ - p.static_force() * 1.05).abs() < 1e-9);
+        assert!((l_up.coulomb - p.coulomb_force() * 1.1).abs() < 1e-9);
     }
 
     #[test]

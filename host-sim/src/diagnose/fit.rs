@@ -41,6 +41,8 @@ pub enum Param {
     BristleDamping,
     /// asymmetry rc [-].
     AsymCoulomb,
+    /// asymmetry rs [-].
+    AsymStatic,
     /// asymmetry rv [-].
     AsymViscous,
     /// offset F0 \[N\].
@@ -67,6 +69,7 @@ impl Param {
             Param::Viscous => "viscous_coefficient_n_s_per_m",
             Param::BristleDamping => "bristle_damping_n_s_per_m",
             Param::AsymCoulomb => "coulomb_ratio",
+            Param::AsymStatic => "static_ratio",
             Param::AsymViscous => "viscous_ratio",
             Param::Offset => "force_n",
             Param::LoadCoefficient => "coefficient_n_per_pa",
@@ -315,6 +318,7 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
         Param::Viscous => q.viscous_coefficient(),
         Param::BristleDamping => q.bristle_damping(),
         Param::AsymCoulomb => e.asymmetry.map_or(0.0, |a| a.coulomb_ratio),
+        Param::AsymStatic => e.asymmetry.map_or(0.0, |a| a.static_ratio),
         Param::AsymViscous => e.asymmetry.map_or(0.0, |a| a.viscous_ratio),
         Param::Offset => e.offset.map_or(0.0, |o| o.force),
         Param::LoadCoefficient => e.load_dependence.map_or(0.0, |l| l.coefficient),
@@ -379,7 +383,7 @@ impl Bounds {
             Param::Static => (0.0, (self.force - self.coulomb).max(0.0)),
             Param::Viscous => (0.0, self.viscous),
             Param::BristleDamping => (0.0, self.damping),
-            Param::AsymCoulomb | Param::AsymViscous => (-0.95, 0.95),
+            Param::AsymCoulomb | Param::AsymStatic | Param::AsymViscous => (-0.95, 0.95),
             Param::Offset => (-self.force, self.force),
             _ => (f64::NEG_INFINITY, f64::INFINITY),
         }
@@ -432,9 +436,9 @@ fn linear_step(
     );
     let vs = fr.params.stribeck_velocity();
     let shape = e.stribeck_shape.map_or(2.0, |s| s.exponent);
-    let (rc, rv) = e
-        .asymmetry
-        .map_or((0.0, 0.0), |a| (a.coulomb_ratio, a.viscous_ratio));
+    let (rc, rs, rv) = e.asymmetry.map_or((0.0, 0.0, 0.0), |a| {
+        (a.coulomb_ratio, a.static_ratio, a.viscous_ratio)
+    });
     let reference = e.reference_conditions();
 
     let mut params: Vec<Param> = Vec::new();
@@ -447,7 +451,7 @@ fn linear_step(
     }
     params.push(Param::BristleDamping);
     if e.asymmetry.is_some() {
-        params.extend([Param::AsymCoulomb, Param::AsymViscous]);
+        params.extend([Param::AsymCoulomb, Param::AsymStatic, Param::AsymViscous]);
     }
     if e.offset.is_some() {
         params.push(Param::Offset);
@@ -512,22 +516,26 @@ fn linear_step(
         let w = e
             .dwell_stiction
             .map_or(0.0, |dw| -(-sim.dwell[i] / dw.time_constant).exp_m1());
-        let level = fc * (1.0 - ex) + fs * ex;
+        // g = Fc (1 + d rc) (1 - e) + Fs (1 + d rs) e, Fs = Fc + hump: the Coulomb level
+        // everywhere, the hump near rest, each with its direction's ratio
+        let (up_c, up_s) = (1.0 + d * rc, 1.0 + d * rs);
+        let level = fc * up_c * (1.0 - ex) + fs * up_s * ex;
         for (j, prm) in params.iter().enumerate() {
             cols[j][i] = match prm {
                 Param::Mass => p.a[i],
-                // g = Fc + (Fs - Fc) e: the Coulomb level everywhere, the hump near rest
-                Param::Coulomb => tau_c * (1.0 + d * rc) * s,
-                Param::Static => tau_c * (1.0 + d * rc) * ex * s,
+                Param::Coulomb => tau_c * (up_c * (1.0 - ex) + up_s * ex) * s,
+                Param::Static => tau_c * up_s * ex * s,
                 Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
                 Param::BristleDamping => sim.deflection_rate[i],
-                Param::AsymCoulomb => tau_c * d * level * s,
+                Param::AsymCoulomb => tau_c * d * fc * (1.0 - ex) * s,
+                Param::AsymStatic => tau_c * d * fs * ex * s,
                 Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                 Param::Offset => 1.0,
                 Param::LoadCoefficient => tau_c * load_x * s,
                 Param::PositionGradient => tau_c * pos_x * s,
                 Param::PositionCosine(j) => tau_c * pos_basis[*j] * s,
-                Param::TempCoulomb => d_t * (1.0 + d * rc) * (level + shift) * s,
+                // the shift is added after the direction's ratios (FrictionModel::levels)
+                Param::TempCoulomb => d_t * (level + shift) * s,
                 Param::DwellIncrease => w * ex * s,
             };
         }
@@ -747,6 +755,7 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
     let mut effects = m.friction.effects;
     if let Some(a) = effects.asymmetry.as_mut() {
         a.coulomb_ratio = get(Param::AsymCoulomb).unwrap_or(0.0).clamp(-0.95, 0.95);
+        a.static_ratio = get(Param::AsymStatic).unwrap_or(0.0).clamp(-0.95, 0.95);
         a.viscous_ratio = get(Param::AsymViscous).unwrap_or(0.0).clamp(-0.95, 0.95);
     }
     if let Some(o) = effects.offset.as_mut() {
@@ -871,6 +880,7 @@ pub fn add_effect(
         K::Asymmetry => {
             e.asymmetry = Some(fx::Asymmetry {
                 coulomb_ratio: 0.0,
+                static_ratio: 0.0,
                 viscous_ratio: 0.0,
             })
         }

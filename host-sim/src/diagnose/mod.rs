@@ -55,7 +55,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
     EffectInfo {
         kind: EffectKind::Asymmetry,
         meaning: "friction differs with the direction of motion (seal wear, side load, a fatigued screw)",
-        linear: &[Param::AsymCoulomb, Param::AsymViscous],
+        linear: &[Param::AsymCoulomb, Param::AsymStatic, Param::AsymViscous],
         nonlinear: None,
         shape: None,
     },
