@@ -96,14 +96,25 @@ pub const EFFECTS: [EffectInfo; 8] = [
         kind: EffectKind::StribeckShape,
         meaning: "the fall from breakaway to sliding friction is sharper or gentler than the standard Stribeck curve",
         linear: &[],
-        nonlinear: Some(("exponent", &[0.5, 0.7, 0.9, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0], Some(2.0))),
+        nonlinear: Some((
+            "exponent",
+            &[0.5, 0.7, 0.9, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.5],
+            Some(2.0),
+        )),
         shape: None,
     },
     EffectInfo {
         kind: EffectKind::ViscousPower,
         meaning: "viscous friction is not proportional to speed (shear-thinning film, turbulent leakage)",
         linear: &[],
-        nonlinear: Some(("exponent", &[0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5], Some(1.0))),
+        // up to quadratic drag (turbulent leakage) with room above it: a grid that stopped at
+        // 1.5 left two independent records with exponents 1.92 and 1.98 at 2.5x and 5.5x the
+        // true model's error
+        nonlinear: Some((
+            "exponent",
+            &[0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5, 1.75, 2.0, 2.5],
+            Some(1.0),
+        )),
         shape: None,
     },
     EffectInfo {
