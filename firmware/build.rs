@@ -88,9 +88,11 @@ fn generate(path: &str) -> Result<String, String> {
                 ),
                 "offset" => format!("offset: Some(fx::Offset {{ force: {:?} }}),", n("force_n")? as f32),
                 "load_dependence" => format!(
-                    "load_dependence: Some(fx::LoadDependence {{ coefficient: {:?}, reference_pressure_sum: {:?} }}),",
+                    "load_dependence: Some(fx::LoadDependence {{ coefficient: {:?}, reference_pressure_sum: {:?}, exponent: {:?} }}),",
                     n("coefficient_n_per_pa")? as f32,
-                    n("reference_pressure_sum_pa")? as f32
+                    n("reference_pressure_sum_pa")? as f32,
+                    // files written before the exponent existed are linear
+                    if f.contains_key("exponent") { n("exponent")? } else { 1.0 } as f32
                 ),
                 "temperature_dependence" => format!(
                     "temperature_dependence: Some(fx::TemperatureDependence {{ viscous_per_kelvin: {:?}, coulomb_per_kelvin: {:?}, reference_temperature: {:?} }}),",

@@ -99,6 +99,8 @@ mod tables {
     pub struct LoadT {
         pub coefficient_n_per_pa: f64,
         pub reference_pressure_sum_pa: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub exponent: Option<f64>,
     }
     #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
     #[serde(deny_unknown_fields)]
@@ -216,6 +218,7 @@ impl ParamFile {
                 load_dependence: e.load_dependence.map(|l| LoadT {
                     coefficient_n_per_pa: l.coefficient,
                     reference_pressure_sum_pa: l.reference_pressure_sum,
+                    exponent: Some(l.exponent),
                 }),
                 position_dependence: e.position_dependence.map(|x| PositionT {
                     gradient_n_per_m: x.gradient,
@@ -297,13 +300,21 @@ impl ParamFile {
             effects.offset = Some(fx::Offset { force: o.force_n });
         }
         if let Some(l) = e.load_dependence {
+            // a file without `exponent` (written before it existed) is linear
+            let exponent = l.exponent.unwrap_or(1.0);
             finite(
                 K::LoadDependence,
-                &[l.coefficient_n_per_pa, l.reference_pressure_sum_pa],
+                &[
+                    l.coefficient_n_per_pa,
+                    l.reference_pressure_sum_pa,
+                    exponent,
+                ],
             )?;
+            positive(K::LoadDependence, "exponent", exponent)?;
             effects.load_dependence = Some(fx::LoadDependence {
                 coefficient: l.coefficient_n_per_pa,
                 reference_pressure_sum: l.reference_pressure_sum_pa,
+                exponent,
             });
         }
         if let Some(x) = &e.position_dependence {

@@ -25,6 +25,7 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::R
             e.load_dependence = Some(fx::LoadDependence {
                 coefficient: 4e-5 * s,
                 reference_pressure_sum: cfg.valve.supply_pressure_pa,
+                exponent: 1.0,
             })
         }
         K::PositionDependence => {

@@ -9,7 +9,7 @@
 //! | --- | --- |
 //! | `asymmetry` | `Fc -> (1 ± rc) Fc`, `Fs -> (1 ± rs) Fs`, `sigma2 -> (1 ± rv) sigma2`, `+` for v >= 0 |
 //! | `offset` | `F += F0` (constant external force, e.g. gravity on an inclined axis) |
-//! | `load_dependence` | `Fc, Fs += k (p_a + p_b - p_ref)` (seal preload + pressure-energised seal) |
+//! | `load_dependence` | `Fc, Fs -> (1 + dF(p) / Fs) Fc, Fs`, `dF = k p_ref ((p / p_ref)^gamma - 1) / gamma`, `p = p_a + p_b` (the seal's normal force: preload + pressure-energised; `k (p - p_ref)` at `gamma = 1`) |
 //! | `position_dependence` | `Fc, Fs += k_x (x - x_c) + sum_j c_j cos(j pi u)`, `u = (x - x_c) / 2L + 1/2` in [0, 1] (friction varying along the stroke) |
 //! | `temperature_dependence` | `sigma2 -> sigma2 exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs` |
 //! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
@@ -38,13 +38,44 @@ pub struct Offset<T> {
     pub force: T,
 }
 
-/// Seal friction that grows with chamber pressure.
+/// Seal friction that grows with chamber pressure: the pressure adds to the seal's normal
+/// force, so both levels scale with it, `Fc, Fs -> (1 + dF(p) / Fs) Fc, Fs`, with the static
+/// level's change a power of the pressure sum `p`:
+///
+/// ```text
+/// dF(p) = k p_ref ((p / p_ref)^gamma - 1) / gamma
+/// ```
+///
+/// `k` is the static level's slope at the reference, whatever `gamma`; `gamma = 1` is the straight line
+/// `k (p - p_ref)`, `gamma < 1` a seal whose lip saturates as it is pressed, `gamma > 1` one that
+/// is energised progressively. A pressure sum below zero counts as zero; a non-positive
+/// `p_ref` or `gamma` falls back to the straight line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LoadDependence<T> {
-    /// `k` [N/Pa].
+    /// `k` [N/Pa]: the static level's slope at the reference pressure sum.
     pub coefficient: T,
     /// `p_ref` \[Pa\]: the pressure sum at which the base Fc, Fs hold.
     pub reference_pressure_sum: T,
+    /// `gamma` [-]: the power of the pressure sum (1: linear).
+    pub exponent: T,
+}
+
+impl<T: Float> LoadDependence<T> {
+    /// The regressor `dF / k` \[Pa\] at pressure sum `p` \[Pa\].
+    pub fn basis(&self, pressure_sum: T) -> T {
+        let (r, g) = (self.reference_pressure_sum, self.exponent);
+        if r > T::zero() && g > T::zero() && g.is_finite() && g != T::one() {
+            let u = pressure_sum.max(T::zero()) / r;
+            r * (u.powf(g) - T::one()) / g
+        } else {
+            pressure_sum - r
+        }
+    }
+
+    /// The shift of Fc and Fs, `k basis(p)` \[N\].
+    pub fn shift(&self, pressure_sum: T) -> T {
+        self.coefficient * self.basis(pressure_sum)
+    }
 }
 
 /// Most cosine terms a position dependence carries.
@@ -309,6 +340,7 @@ impl<T: Float> Effects<T> {
             load_dependence: self.load_dependence.map(|l| LoadDependence {
                 coefficient: c(l.coefficient),
                 reference_pressure_sum: c(l.reference_pressure_sum),
+                exponent: c(l.exponent),
             }),
             position_dependence: self.position_dependence.map(|p| PositionDependence {
                 gradient: c(p.gradient),

@@ -74,10 +74,23 @@ impl<T: ModelFloat> FrictionModel<T> {
             static_ = static_ * (T::one() + s * a.static_ratio);
             viscous = viscous * (T::one() + s * a.viscous_ratio);
         }
-        let mut shift = T::zero();
         if let Some(l) = e.load_dependence {
-            shift = shift + l.coefficient * (c.pressure_sum - l.reference_pressure_sum);
+            // the seal's normal force grows with the pressure and both levels scale with it:
+            // `k` is the static level's slope, the Coulomb level follows in proportion (the
+            // static level, not the Coulomb one, as the reference: a fit whose Coulomb level
+            // sits at zero, its friction all in the hump, would make the scale singular)
+            let base = p.static_force();
+            let df = l.shift(c.pressure_sum);
+            if base > T::zero() {
+                let scale = (T::one() + df / base).max(T::zero());
+                coulomb = coulomb * scale;
+                static_ = static_ * scale;
+            } else {
+                coulomb = coulomb + df;
+                static_ = static_ + df;
+            }
         }
+        let mut shift = T::zero();
         if let Some(x) = e.position_dependence {
             shift = shift + x.shift(c.position);
         }
@@ -328,14 +341,27 @@ mod tests {
         m.effects.load_dependence = Some(LoadDependence {
             coefficient: 2e-5,
             reference_pressure_sum: 100e5,
+            exponent: 1.0,
         });
         let c = Conditions {
             pressure_sum: 150e5,
             ..REF
         };
         let l = m.levels(0.01, &c, 0.0);
-        assert!((l.coulomb - (506.0 + 2e-5 * 50e5)).abs() < 1e-9);
-        assert!((l.static_ - (632.0 + 100.0)).abs() < 1e-9);
+        assert!((l.static_ - (632.0 + 2e-5 * 50e5)).abs() < 1e-9);
+        // the Coulomb level in proportion: 506 (1 + 100 / 632)
+        assert!((l.coulomb - 506.0 * (1.0 + 100.0 / 632.0)).abs() < 1e-9);
+        // a power law: k p_ref ((1.5)^2 - 1) / 2 = 2e-5 * 100e5 * 0.625 = 125 N, and the same
+        // slope k at the reference
+        let mut q = m.effects.load_dependence.unwrap();
+        q.exponent = 2.0;
+        m.effects.load_dependence = Some(q);
+        let l = m.levels(0.01, &c, 0.0);
+        assert!((l.static_ - (632.0 + 125.0)).abs() < 1e-6, "{}", l.static_);
+        assert!((l.coulomb - 506.0 * (1.0 + 125.0 / 632.0)).abs() < 1e-6);
+        let h = 1e3;
+        let slope = (q.shift(100e5 + h) - q.shift(100e5 - h)) / (2.0 * h);
+        assert!((slope - 2e-5).abs() < 1e-12, "{slope}");
     }
 
     #[test]
@@ -467,6 +493,7 @@ mod tests {
         m.effects.load_dependence = Some(LoadDependence {
             coefficient: 1.0,
             reference_pressure_sum: 0.0,
+            exponent: 1.0,
         });
         let l = m.levels(
             0.01,

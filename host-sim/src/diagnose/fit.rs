@@ -491,17 +491,21 @@ fn linear_step(
         let kv_fac = e
             .temperature_dependence
             .map_or(1.0, |t| (-t.viscous_per_kelvin * d_t).exp());
-        let load_x = e
-            .load_dependence
-            .map_or(0.0, |l| c.pressure_sum - l.reference_pressure_sum);
+        let load_x = e.load_dependence.map_or(0.0, |l| l.basis(c.pressure_sum));
         let pos_x = e.position_dependence.map_or(0.0, |x| c.position - x.center);
         let pos_basis = e
             .position_dependence
             .filter(|x| x.terms > 0)
             .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
-        let shift = e.load_dependence.map_or(0.0, |l| l.coefficient * load_x)
-            + e.position_dependence
-                .map_or(0.0, |x| x.shift_from(c.position, &pos_basis));
+        // the load scales both levels by the seal's normal force, `1 + k b(p) / Fs`
+        // (FrictionModel::levels); the position shift is added after it
+        let load_scale = e
+            .load_dependence
+            .filter(|_| fs > 0.0)
+            .map_or(1.0, |l| (1.0 + l.coefficient * load_x / fs).max(0.0));
+        let shift = e
+            .position_dependence
+            .map_or(0.0, |x| x.shift_from(c.position, &pos_basis));
         // the viscous force is taken at the sample instant (see FrictionModel::step_split)
         let v_now = p.v[i];
         let d_now = if v_now >= 0.0 { 1.0 } else { -1.0 };
@@ -519,19 +523,36 @@ fn linear_step(
         // g = Fc (1 + d rc) (1 - e) + Fs (1 + d rs) e, Fs = Fc + hump: the Coulomb level
         // everywhere, the hump near rest, each with its direction's ratio
         let (up_c, up_s) = (1.0 + d * rc, 1.0 + d * rs);
-        let level = fc * up_c * (1.0 - ex) + fs * up_s * ex;
+        let level0 = fc * up_c * (1.0 - ex) + fs * up_s * ex;
+        let level = load_scale * level0;
+        // d(load_scale)/d(Fs) = -k b / Fs^2 (k held), and Fs = Fc + hump moves with both
+        let scale_per_fs = if e.load_dependence.is_some() && fs > 0.0 {
+            -(load_scale - 1.0) / fs
+        } else {
+            0.0
+        };
         for (j, prm) in params.iter().enumerate() {
             cols[j][i] = match prm {
                 Param::Mass => p.a[i],
-                Param::Coulomb => tau_c * (up_c * (1.0 - ex) + up_s * ex) * s,
-                Param::Static => tau_c * up_s * ex * s,
+                Param::Coulomb => {
+                    tau_c
+                        * (load_scale * (up_c * (1.0 - ex) + up_s * ex) + scale_per_fs * level0)
+                        * s
+                }
+                Param::Static => tau_c * (load_scale * up_s * ex + scale_per_fs * level0) * s,
                 Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
                 Param::BristleDamping => sim.deflection_rate[i],
-                Param::AsymCoulomb => tau_c * d * fc * (1.0 - ex) * s,
-                Param::AsymStatic => tau_c * d * fs * ex * s,
+                Param::AsymCoulomb => tau_c * load_scale * d * fc * (1.0 - ex) * s,
+                Param::AsymStatic => tau_c * load_scale * d * fs * ex * s,
                 Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                 Param::Offset => 1.0,
-                Param::LoadCoefficient => tau_c * load_x * s,
+                Param::LoadCoefficient => {
+                    if fs > 0.0 {
+                        tau_c * load_x / fs * level0 * s
+                    } else {
+                        tau_c * load_x * s
+                    }
+                }
                 Param::PositionGradient => tau_c * pos_x * s,
                 Param::PositionCosine(j) => tau_c * pos_basis[*j] * s,
                 // the shift is added after the direction's ratios (FrictionModel::levels)
@@ -890,9 +911,12 @@ pub fn add_effect(
                 .pressure_sum
                 .as_ref()
                 .map_or(0.0, |s| crate::stats::median(s));
+            // `nonlinear`: the power of the pressure sum (a model that has the effect keeps its
+            // slope as the refit's start)
             e.load_dependence = Some(fx::LoadDependence {
-                coefficient: 0.0,
+                coefficient: e.load_dependence.map_or(0.0, |l| l.coefficient),
                 reference_pressure_sum: r,
+                exponent: if nonlinear > 0.0 { nonlinear } else { 1.0 },
             })
         }
         K::PositionDependence => {

@@ -70,7 +70,9 @@ pub const EFFECTS: [EffectInfo; 8] = [
         kind: EffectKind::LoadDependence,
         meaning: "seal friction grows with chamber pressure (pressure-energised seals)",
         linear: &[Param::LoadCoefficient],
-        nonlinear: None,
+        // the power of the pressure sum: a seal that saturates (< 1) or is energised
+        // progressively (> 1); the independent generator draws 0.7..1.5
+        nonlinear: Some(("exponent", &[0.5, 0.7, 0.85, 1.0, 1.2, 1.5, 2.0, 2.5], Some(1.0))),
         shape: None,
     },
     EffectInfo {
@@ -1131,7 +1133,8 @@ fn nonlinear_value(m: &AxisModel, effect: EffectKind) -> Option<f64> {
         EffectKind::ViscousPower => e.viscous_power.map(|v| v.exponent),
         EffectKind::DwellStiction => e.dwell_stiction.map(|d| d.time_constant),
         EffectKind::PositionDependence => e.position_dependence.map(|x| x.terms as f64),
-        EffectKind::Asymmetry | EffectKind::Offset | EffectKind::LoadDependence => None,
+        EffectKind::LoadDependence => e.load_dependence.map(|l| l.exponent),
+        EffectKind::Asymmetry | EffectKind::Offset => None,
     }
 }
 
