@@ -72,7 +72,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         linear: &[Param::LoadCoefficient],
         // the power of the pressure sum: a seal that saturates (< 1) or is energised
         // progressively (> 1); the independent generator draws 0.7..1.5
-        nonlinear: Some(("exponent", &[0.5, 0.7, 0.85, 1.0, 1.2, 1.5, 2.0, 2.5], Some(1.0))),
+        nonlinear: Some(("exponent", &[0.6, 0.8, 1.0, 1.25, 1.6, 2.2], Some(1.0))),
         shape: None,
     },
     EffectInfo {
@@ -100,7 +100,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         linear: &[],
         nonlinear: Some((
             "exponent",
-            &[0.5, 0.7, 0.9, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.5],
+            &[0.5, 0.7, 0.9, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0],
             Some(2.0),
         )),
         shape: None,
@@ -114,7 +114,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         // true model's error
         nonlinear: Some((
             "exponent",
-            &[0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.15, 1.3, 1.5, 1.75, 2.0, 2.5],
+            &[0.3, 0.45, 0.6, 0.75, 0.9, 1.0, 1.15, 1.35, 1.6, 2.0, 2.5],
             Some(1.0),
         )),
         shape: None,
