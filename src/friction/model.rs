@@ -78,17 +78,11 @@ impl<T: ModelFloat> FrictionModel<T> {
             // the seal's normal force grows with the pressure and both levels scale with it:
             // `k` is the static level's slope, the Coulomb level follows in proportion (the
             // static level, not the Coulomb one, as the reference: a fit whose Coulomb level
-            // sits at zero, its friction all in the hump, would make the scale singular)
-            let base = p.static_force();
-            let df = l.shift(c.pressure_sum);
-            if base > T::zero() {
-                let scale = (T::one() + df / base).max(T::zero());
-                coulomb = coulomb * scale;
-                static_ = static_ * scale;
-            } else {
-                coulomb = coulomb + df;
-                static_ = static_ + df;
-            }
+            // sits at zero, its friction all in the hump, would make the scale singular; Fs > 0
+            // is a LugreParams invariant)
+            let scale = (T::one() + l.shift(c.pressure_sum) / p.static_force()).max(T::zero());
+            coulomb = coulomb * scale;
+            static_ = static_ * scale;
         }
         let mut shift = T::zero();
         if let Some(x) = e.position_dependence {
@@ -211,7 +205,16 @@ impl<T: ModelFloat> FrictionModel<T> {
                 };
             }
         }
-        let l = self.levels(mean_velocity, c, s.dwell_time);
+        // The levels depend on the velocity only through the direction of `asymmetry`: one
+        // evaluation per direction serves the step, the bound and the viscous force.
+        let forward = self.levels(T::one(), c, s.dwell_time);
+        let backward = if self.effects.asymmetry.is_some() {
+            self.levels(-T::one(), c, s.dwell_time)
+        } else {
+            forward
+        };
+        let at = |v: T| if v >= T::zero() { forward } else { backward };
+        let l = at(mean_velocity);
         let g = self.stribeck_curve(mean_velocity, &l);
         let sigma0 = self.params.bristle_stiffness();
         let b = driven_bristle_step(s.z, drive, mean_velocity, sigma0, g, dt);
@@ -220,25 +223,14 @@ impl<T: ModelFloat> FrictionModel<T> {
         // current direction's Fs alone snapped a bristle loaded forward to the backward static
         // level the moment the axis crept back (an independent record with 23 % asymmetry held
         // 469 N at rest where the model dropped to 322 N).
-        let (below, above) = if self.effects.asymmetry.is_some() {
-            (
-                self.levels(-T::one(), c, s.dwell_time).static_ / sigma0,
-                self.levels(T::one(), c, s.dwell_time).static_ / sigma0,
-            )
-        } else {
-            (l.static_ / sigma0, l.static_ / sigma0)
-        };
         // max/min rather than clamp: no panic even for a non-finite bound
-        let z = b.deflection.max(-below).min(above);
+        let z = b
+            .deflection
+            .max(-backward.static_ / sigma0)
+            .min(forward.static_ / sigma0);
         s.z = z;
         s.deflection_rate = b.deflection_rate;
-        // the levels depend on the velocity only through the direction of `asymmetry`
-        let crossed = (velocity >= T::zero()) != (mean_velocity >= T::zero());
-        let l = if self.effects.asymmetry.is_some() && crossed {
-            self.levels(velocity, c, s.dwell_time)
-        } else {
-            l
-        };
+        let l = at(velocity);
         sigma0 * z
             + self.params.bristle_damping() * b.deflection_rate
             + self.viscous_force(velocity, &l)

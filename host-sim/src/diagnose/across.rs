@@ -272,24 +272,11 @@ fn pooled_viscous(fits: &[RecordFit], opts: &Options) -> Option<(f64, f64)> {
             .sum()
     };
     let grid: Vec<f64> = (0..=16).map(|k| hi * f64::from(k) / 16.0).collect();
-    let (best, _, profile) = fit::grid_min(&grid, |s2| (cost(s2), ()));
-    let f0 = cost(best);
-    // curvature from a symmetric difference one grid step wide (one side at sigma2 = 0 stays
-    // one-sided: a step inside the range)
+    let (best, _, _) = fit::grid_min(&grid, |s2| (cost(s2), ()));
+    // curvature from three points one grid step apart around the best, kept within sigma2 >= 0
     let h = hi / 16.0;
-    let (a, b) = if best >= h {
-        (best - h, best + h)
-    } else {
-        (best, best + 2.0 * h)
-    };
-    let (fa, fb) = (
-        profile
-            .iter()
-            .find(|q| (q.0 - a).abs() < 1e-12 * hi)
-            .map_or_else(|| cost(a), |q| q.1),
-        cost(b),
-    );
-    let fm = if best >= h { f0 } else { cost(best + h) };
+    let mid = best.max(h);
+    let (fa, fm, fb) = (cost(mid - h), cost(mid), cost(mid + h));
     let curvature = (fa + fb - 2.0 * fm) / (h * h);
     let se = if curvature > 0.0 {
         (2.0 / curvature).sqrt()

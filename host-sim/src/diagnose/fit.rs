@@ -227,15 +227,9 @@ fn refit_iterations(
     }
     if let Some(s2) = held_viscous {
         let q = model.friction.params;
-        model.friction.params = LugreParams::new(
-            q.bristle_stiffness(),
-            q.bristle_damping(),
-            s2.max(0.0),
-            q.coulomb_force(),
-            q.static_force(),
-            q.stribeck_velocity(),
-        )
-        .unwrap_or(q);
+        model.friction.params = q
+            .with_levels(s2.max(0.0), q.coulomb_force(), q.static_force())
+            .unwrap_or(q);
     }
     // score a model: (weighted RSS, its simulation, its prediction)
     let score = |m: &AxisModel| {
@@ -498,10 +492,10 @@ fn linear_step(
             .filter(|x| x.terms > 0)
             .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
         // the load scales both levels by the seal's normal force, `1 + k b(p) / Fs`
-        // (FrictionModel::levels); the position shift is added after it
+        // (FrictionModel::levels; Fs > 0 is a LugreParams invariant); the position shift is
+        // added after it
         let load_scale = e
             .load_dependence
-            .filter(|_| fs > 0.0)
             .map_or(1.0, |l| (1.0 + l.coefficient * load_x / fs).max(0.0));
         let shift = e
             .position_dependence
@@ -525,12 +519,9 @@ fn linear_step(
         let (up_c, up_s) = (1.0 + d * rc, 1.0 + d * rs);
         let level0 = fc * up_c * (1.0 - ex) + fs * up_s * ex;
         let level = load_scale * level0;
-        // d(load_scale)/d(Fs) = -k b / Fs^2 (k held), and Fs = Fc + hump moves with both
-        let scale_per_fs = if e.load_dependence.is_some() && fs > 0.0 {
-            -(load_scale - 1.0) / fs
-        } else {
-            0.0
-        };
+        // d(load_scale)/d(Fs) = -k b / Fs^2 (k held; zero without the effect), and
+        // Fs = Fc + hump moves with both
+        let scale_per_fs = -(load_scale - 1.0) / fs;
         for (j, prm) in params.iter().enumerate() {
             cols[j][i] = match prm {
                 Param::Mass => p.a[i],
@@ -546,13 +537,7 @@ fn linear_step(
                 Param::AsymStatic => tau_c * load_scale * d * fs * ex * s,
                 Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                 Param::Offset => 1.0,
-                Param::LoadCoefficient => {
-                    if fs > 0.0 {
-                        tau_c * load_x / fs * level0 * s
-                    } else {
-                        tau_c * load_x * s
-                    }
-                }
+                Param::LoadCoefficient => tau_c * load_x / fs * level0 * s,
                 Param::PositionGradient => tau_c * pos_x * s,
                 Param::PositionCosine(j) => tau_c * pos_basis[*j] * s,
                 // the shift is added after the direction's ratios (FrictionModel::levels)
