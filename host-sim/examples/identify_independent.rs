@@ -9,7 +9,9 @@
 //! 0.8 s with 0.3 s rests) and a 0.5 Hz sinusoid for 4 s whose amplitude is the larger of
 //! 0.6 mm and 20 pre-sliding lengths (`Fs / sigma0`), so it slides between reversals.
 //!
-//! `cargo run --release -p host-sim --example identify_independent [-- N]`
+//! `cargo run --release -p host-sim --example identify_independent [-- N]` (`WRITE=DIR` also
+//! writes each axis's two records there; `INTERVALS=1` prints each parameter's 95 % interval
+//! and the truth on stderr)
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
@@ -74,6 +76,12 @@ fn run(seed: u64) -> Outcome {
         seed * 31 + 2,
         &sine_reference((20.0 * travel).max(6e-4)),
     );
+    if let Ok(dir) = std::env::var("WRITE") {
+        // the two records, to try by hand (`host-sim identify --sweep --dynamic`)
+        std::fs::create_dir_all(&dir).expect("folder");
+        std::fs::write(format!("{dir}/{seed}-sweep.csv"), &sweep).expect("write");
+        std::fs::write(format!("{dir}/{seed}-dynamic.csv"), &dynamic).expect("write");
+    }
     let parse = |text: &str, name: &str| Record::parse(text, Path::new(name));
     let data: Result<IdentData, String> = (|| {
         let s = parse(&sweep, "sweep.csv").map_err(|e| e.to_string())?;
@@ -117,6 +125,24 @@ fn run(seed: u64) -> Outcome {
     }
     let r = identify::identify(Algorithm::Improved, &data, seed, Some(&truth));
     let e = r.errors_pct.expect("truth given");
+    if std::env::var("INTERVALS").is_ok() {
+        let t = [
+            axis.sigma0,
+            axis.sigma1,
+            axis.sigma2,
+            axis.coulomb_n,
+            axis.static_n - axis.coulomb_n,
+            axis.stribeck_m_per_s,
+        ];
+        for (k, name) in ["sigma0", "sigma1", "sigma2", "Fc", "Fs-Fc", "vs"]
+            .iter()
+            .enumerate()
+        {
+            if let Some(i) = r.identifiability[k] {
+                eprintln!("seed {seed} {name:7} value {:.4e} truth {:.4e} 95% [{:.4e}, {:.4e}] identifiable {}", r.values[k], t[k], i.interval95[0], i.interval95[1], i.identifiable);
+            }
+        }
+    }
     let i0 = r.identifiability[0];
     let holds =
         i0.is_some_and(|i| i.interval95[0] <= axis.sigma0 && axis.sigma0 <= i.interval95[1]);

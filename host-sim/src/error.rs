@@ -172,12 +172,21 @@ pub enum DataProblem {
     /// A sweep record with too few steady constant-velocity legs.
     #[error(
         "found {found} steady constant-velocity legs of at least 0.4 s, need 6 or more for the \
-         static stage{}",
+         static stage{}{}",
         if *.unsteady > 0 {
             format!(
                 " ({unsteady} more left out: the axis did not slide steadily on them, as in \
                  stick-slip; slower legs are where it sets in, so raise the slowest speed or \
                  the loop's stiffness)"
+            )
+        } else {
+            String::new()
+        },
+        if *.settling > 0 {
+            format!(
+                " ({settling} more left out: their force still drifted over the leg, by more \
+                 than 1 % of it, as the bristles settle into sliding; lengthen those legs to \
+                 many times the contact's pre-sliding travel)"
             )
         } else {
             String::new()
@@ -188,6 +197,8 @@ pub enum DataProblem {
         found: usize,
         /// Legs long enough but left out as not sliding steadily.
         unsteady: usize,
+        /// Legs left out because their force had not settled.
+        settling: usize,
     },
 }
 

@@ -129,6 +129,7 @@ pub fn ideal_data(truth: &LugreParams<f64>) -> IdentData {
         .map(|v| SteadyPoint {
             velocity: v,
             force: truth.steady_state_force(v),
+            force_std_error: 0.0,
         })
         .collect();
     let dt = 1e-3;
@@ -304,8 +305,50 @@ fn slides_steadily(x: &[f64], window: std::ops::Range<usize>, resolution: f64) -
     })
 }
 
+/// Largest drift of a settled leg's force, as a fraction of its mean (see [`has_settled`]).
+pub const SETTLED_DRIFT: f64 = 0.01;
+
+/// Whether the force over `window` has settled: the mean of its last third differs from the
+/// mean of its first third by at most [`SETTLED_DRIFT`] of the window's mean force, or by
+/// no more than 4 standard errors of that difference (white noise about a line; a lower
+/// bound where the noise is coloured, which errs towards keeping the leg). A leg shorter
+/// than many pre-sliding travels is still settling: the bristles approach their steady
+/// deflection over a travel of the order of `Fc / sigma0`, tens to hundreds of micrometres
+/// on soft contacts. Measured on the independent generator: settled legs drift by 0.6 % at
+/// most; a 0.8 s leg at 1.1 mm/s on a 195 um contact drifted by 23 % and averaged 62 N where
+/// `Fss(v)` is 71 N.
+fn has_settled(force: &[f64], window: std::ops::Range<usize>) -> bool {
+    let f = &force[window];
+    let k = f.len() / 3;
+    if k < 3 {
+        return true; // too short to judge
+    }
+    let mean = |s: &[f64]| s.iter().sum::<f64>() / s.len() as f64;
+    let (first, last, all) = (mean(&f[..k]), mean(&f[f.len() - k..]), mean(f));
+    let drift = (last - first).abs();
+    // the noise about the straight line through the window
+    let n = f.len() as f64;
+    let mid = 0.5 * (n - 1.0);
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (i, y) in f.iter().enumerate() {
+        sxy += (i as f64 - mid) * (y - all);
+        sxx += (i as f64 - mid).powi(2);
+    }
+    let slope = sxy / sxx;
+    let var = f
+        .iter()
+        .enumerate()
+        .map(|(i, y)| (y - all - slope * (i as f64 - mid)).powi(2))
+        .sum::<f64>()
+        / (n - 2.0);
+    let se = (2.0 * var / k as f64).sqrt();
+    // (a drift that is not a number compares false: the leg is kept)
+    !(drift > SETTLED_DRIFT * all.abs() && drift > 4.0 * se)
+}
+
 /// Steady-state points from a measured sweep record: each constant-velocity leg of `x_ref`
-/// (at least 0.4 s long) gives one point, averaged over its last 60 %.
+/// (at least 0.4 s long) gives one point, averaged over its last 60 %, if the axis slid
+/// steadily there and its force had settled.
 pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<Vec<SteadyPoint>> {
     let x_ref = rec
         .x_ref
@@ -318,7 +361,7 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
     let jitter = 1.5 * encoder_resolution(x_ref) / dt;
     let resolution = encoder_resolution(&rec.x);
     let mut points = Vec::new();
-    let mut unsteady = 0;
+    let (mut unsteady, mut settling) = (0, 0);
     let mut i = 0;
     while i < v_ref.len() {
         // the leg: the samples that stay with the running mean of those before them
@@ -334,15 +377,17 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
         let v = sum / (j - i) as f64;
         let window = i + (j - i) * 2 / 5..j;
         if v.abs() > 1e-5 && (j - i) as f64 * dt >= 0.4 {
-            if slides_steadily(&rec.x, window.clone(), resolution) {
+            if !slides_steadily(&rec.x, window.clone(), resolution) {
+                unsteady += 1;
+            } else if !has_settled(&rec.force, window.clone()) {
+                settling += 1;
+            } else {
                 points.push(experiments::steady_point(
                     rec,
                     window.start,
                     window.end,
                     mass,
                 ));
-            } else {
-                unsteady += 1;
             }
         }
         i = j;
@@ -353,6 +398,7 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
             DataProblem::TooFewLegs {
                 found: points.len(),
                 unsteady,
+                settling,
             },
         ));
     }
@@ -380,42 +426,325 @@ pub struct Identifiability {
 /// Grid of the identifiability scan (points over the search range).
 const SCAN_POINTS: usize = 201;
 
-/// Scans gene `k` over [0, 1] from `best` (see [`Identifiability`]); returns it in physical
-/// units, and the posterior mean as a gene.
-fn identifiability<const N: usize>(
+/// Cost evaluations the profile spends re-optimising the other genes at each grid point, per
+/// free gene (warm-started from the neighbouring grid point's optimum).
+const PROFILE_EVALS_PER_GENE: usize = 12;
+
+/// The grid of the scan, as genes.
+fn scan_grid() -> Vec<f64> {
+    (0..SCAN_POINTS)
+        .map(|i| i as f64 / (SCAN_POINTS - 1) as f64)
+        .collect()
+}
+
+/// The profile of gene `k` of a stage by search: at each grid value the other genes are
+/// re-optimised (a Nelder-Mead run warm-started from the neighbouring grid point's optimum,
+/// marching out from `best`); returns the lowest cost found at each grid point (never above
+/// the slice through `best`'s neighbours).
+fn profile_by_search<const N: usize>(
     cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
-    bounds: &Bounds<N>,
     best: &[f64; N],
-    j_min: f64,
-    n_eff: f64,
     k: usize,
-) -> (Identifiability, f64) {
-    let at = |g: f64| {
-        let mut x = *best;
+    grid: &[f64],
+) -> Vec<f64> {
+    let points = grid.len();
+    let profile = |g: f64, start: &[f64; N]| -> ([f64; N], f64) {
+        let mut x = *start;
         x[k] = g;
-        bounds.decode(&x)[k]
+        let slice = cost(&x);
+        if N == 1 {
+            return (x, slice);
+        }
+        let pinned = |y: &[f64; N]| {
+            let mut y = *y;
+            y[k] = g;
+            cost(&y)
+        };
+        let mut step = [0.02; N];
+        step[k] = 0.0;
+        let r = lugre_servo::identify::simplex::nelder_mead(
+            &mut { pinned },
+            &x,
+            &step,
+            PROFILE_EVALS_PER_GENE * (N - 1),
+        );
+        let mut y = r.best;
+        y[k] = g;
+        if r.cost < slice {
+            (y, r.cost)
+        } else {
+            (x, slice)
+        }
     };
+    let i0 = (0..points)
+        .min_by(|&i, &j| {
+            (grid[i] - best[k])
+                .abs()
+                .total_cmp(&(grid[j] - best[k]).abs())
+        })
+        .unwrap_or(0);
+    let march = |range: Vec<usize>| -> Vec<(usize, f64)> {
+        let mut start = *best;
+        range
+            .into_iter()
+            .map(|i| {
+                let (x, c) = profile(grid[i], &start);
+                start = x;
+                (i, c)
+            })
+            .collect()
+    };
+    let (up, down) = rayon::join(
+        || march((i0..points).collect()),
+        || march((0..i0).rev().collect()),
+    );
+    let mut costs = vec![f64::MAX; points];
+    for (i, c) in up.into_iter().chain(down) {
+        costs[i] = c;
+    }
+    costs
+}
+
+/// Box-constrained linear least squares `min |A t - y|^2`, `lo <= t <= hi`, for a few columns
+/// (each parameter free or at one of its bounds, the best feasible combination); returns the
+/// residual sum of squares and the solution.
+fn box_least_squares(
+    columns: &[&[f64]],
+    y: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+) -> Option<(f64, Vec<f64>)> {
+    let m = columns.len();
+    let solve = |state: &[u8]| -> Option<(f64, Vec<f64>)> {
+        // state: 0 free, 1 at lo, 2 at hi
+        let mut t: Vec<f64> = (0..m)
+            .map(|j| match state[j] {
+                1 => lo[j],
+                2 => hi[j],
+                _ => 0.0,
+            })
+            .collect();
+        let free: Vec<usize> = (0..m).filter(|&j| state[j] == 0).collect();
+        let r: Vec<f64> = (0..y.len())
+            .map(|i| {
+                y[i] - (0..m)
+                    .filter(|j| state[*j] != 0)
+                    .map(|j| t[j] * columns[j][i])
+                    .sum::<f64>()
+            })
+            .collect();
+        let f = free.len();
+        if f > 0 {
+            // normal equations with a whisper of ridge (a column that vanishes, as the
+            // Stribeck term at a tiny vs, leaves its parameter free and the fit unchanged)
+            let mut normal = nalgebra::DMatrix::<f64>::from_fn(f, f, |p, q| {
+                columns[free[p]]
+                    .iter()
+                    .zip(columns[free[q]])
+                    .map(|(u, v)| u * v)
+                    .sum()
+            });
+            let rhs = nalgebra::DVector::<f64>::from_fn(f, |p, _| {
+                columns[free[p]].iter().zip(&r).map(|(u, v)| u * v).sum()
+            });
+            let ridge = 1e-12 * normal.trace().max(1e-300);
+            for p in 0..f {
+                normal[(p, p)] += ridge;
+            }
+            let solution = normal.cholesky()?.solve(&rhs);
+            for (p, &jp) in free.iter().enumerate() {
+                t[jp] = solution[p];
+                let slack = 1e-9 * hi[jp].abs();
+                if !(lo[jp] - slack..=hi[jp] + slack).contains(&t[jp]) {
+                    return None;
+                }
+            }
+        }
+        let ssr = (0..y.len())
+            .map(|i| (y[i] - (0..m).map(|j| t[j] * columns[j][i]).sum::<f64>()).powi(2))
+            .sum();
+        Some((ssr, t))
+    };
+    if let Some(s) = solve(&vec![0; m]) {
+        return Some(s);
+    }
+    let mut best: Option<(f64, Vec<f64>)> = None;
+    for code in 1..3usize.pow(m as u32) {
+        let state: Vec<u8> = (0..m)
+            .map(|j| ((code / 3usize.pow(j as u32)) % 3) as u8)
+            .collect();
+        if let Some(s) = solve(&state) {
+            if best.as_ref().is_none_or(|b| s.0 < b.0) {
+                best = Some(s);
+            }
+        }
+    }
+    best
+}
+
+/// Stribeck speeds \[gene\] the static profile tries for each value of a level (then refined).
+const PROFILE_VS_POINTS: usize = 201;
+
+/// The exact profile of static gene `k` (`[Fc, Fs - Fc, sigma2, vs]`): the steady-state
+/// friction is linear in Fc, Fs - Fc and sigma2 at a given vs, so at each grid value the
+/// others come from box-constrained least squares, and where `k` is a level, vs from a fine
+/// grid refined by golden section. The static cost is so sharp (averaged legs, a fraction of
+/// a newton on hundreds) that a local search does not follow the valley where the Stribeck
+/// level and speed trade: a sweep without slow legs left Fs - Fc 98 % off and called it
+/// identified (a slice through the optimum, and a simplex profile alike).
+///
+/// Returns the points' residual sum of squares at each grid value, weighted by
+/// `1 / force_std_error^2` where every point has one (a chi-square), unweighted otherwise.
+fn static_profile(points: &[cost::SteadyPoint], k: usize, grid: &[f64]) -> Vec<f64> {
+    let weight: Vec<f64> = if points.iter().all(|q| q.force_std_error > 0.0) {
+        points.iter().map(|q| q.force_std_error.powi(-2)).collect()
+    } else {
+        vec![1.0; points.len()]
+    };
+    let root: Vec<f64> = weight.iter().map(|w| w.sqrt()).collect();
+    let bounds = STATIC_BOUNDS;
+    let force = |values: [f64; 4], v: f64| {
+        cost::params(&values, &[1e9, 0.0]).map_or(f64::NAN, |p| p.steady_state_force(v))
+    };
+    // the (weighted) columns of the three levels at vs, and the force with all three at zero
+    let basis = |vs: f64| -> StaticBasis {
+        let zero: Vec<f64> = points
+            .iter()
+            .map(|q| force([0.0, 0.0, 0.0, vs], q.velocity))
+            .collect();
+        let col = |j: usize| -> Vec<f64> {
+            let mut unit = [0.0, 0.0, 0.0, vs];
+            unit[j] = 1.0;
+            points
+                .iter()
+                .zip(&zero)
+                .zip(&root)
+                .map(|((q, z), r)| r * (force(unit, q.velocity) - z))
+                .collect()
+        };
+        ([col(0), col(1), col(2)], zero)
+    };
+    // the residual sum of squares of the best levels other than `fixed` (index, value)
+    let fit = |(cols, zero): &StaticBasis, fixed: Option<(usize, f64)>| -> f64 {
+        let y: Vec<f64> = points
+            .iter()
+            .enumerate()
+            .map(|(i, q)| {
+                root[i] * (q.force - zero[i]) - fixed.map_or(0.0, |(j, t)| t * cols[j][i])
+            })
+            .collect();
+        let free: Vec<usize> = (0..3)
+            .filter(|j| fixed.is_none_or(|(f, _)| f != *j))
+            .collect();
+        let c: Vec<&[f64]> = free.iter().map(|&j| cols[j].as_slice()).collect();
+        let lo: Vec<f64> = free.iter().map(|&j| bounds.lo[j]).collect();
+        let hi: Vec<f64> = free.iter().map(|&j| bounds.hi[j]).collect();
+        box_least_squares(&c, &y, &lo, &hi).map_or(f64::INFINITY, |(ssr, _)| ssr)
+    };
+    let vs_at = |h: f64| bounds.decode(&[0.0, 0.0, 0.0, h])[3];
+    // the Stribeck speeds every level's profile tries first, with their columns
+    let fine: Vec<(f64, StaticBasis)> = if k == 3 {
+        Vec::new()
+    } else {
+        (0..PROFILE_VS_POINTS)
+            .into_par_iter()
+            .map(|i| {
+                let h = i as f64 / (PROFILE_VS_POINTS - 1) as f64;
+                (h, basis(vs_at(h)))
+            })
+            .collect()
+    };
+    grid.par_iter()
+        .map(|&g| {
+            let mut genes = [0.5; 4];
+            genes[k] = g;
+            let value = bounds.decode(&genes)[k];
+            if k == 3 {
+                return fit(&basis(value), None);
+            }
+            let fixed = Some((k, value));
+            let (i_best, s_best) = fine
+                .iter()
+                .enumerate()
+                .map(|(i, (_, b))| (i, fit(b, fixed)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .unwrap_or((0, f64::INFINITY));
+            // golden section about the best grid speed
+            let ssr_at = |h: f64| fit(&basis(vs_at(h)), fixed);
+            let step = 1.0 / (PROFILE_VS_POINTS - 1) as f64;
+            let h0 = fine[i_best].0;
+            let (mut a, mut b) = ((h0 - step).max(0.0), (h0 + step).min(1.0));
+            let r = 0.5 * (5f64.sqrt() - 1.0);
+            let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+            let (mut fc, mut fd) = (ssr_at(c), ssr_at(d));
+            for _ in 0..GOLDEN_STEPS {
+                if fc < fd {
+                    (b, d, fd) = (d, c, fc);
+                    c = b - r * (b - a);
+                    fc = ssr_at(c);
+                } else {
+                    (a, c, fc) = (c, d, fd);
+                    d = a + r * (b - a);
+                    fd = ssr_at(d);
+                }
+            }
+            s_best.min(fc).min(fd)
+        })
+        .collect()
+}
+
+/// The static model at one Stribeck speed: the (weighted) columns of Fc, Fs - Fc and sigma2,
+/// and the force with all three at zero, per point.
+type StaticBasis = ([Vec<f64>; 3], Vec<f64>);
+
+/// Golden-section steps of the static profile's Stribeck speed (a grid step shrinks to
+/// `0.618^20`, 7e-5 of it).
+const GOLDEN_STEPS: usize = 20;
+
+/// `ln L_max - ln L` along static gene `k`'s exact profile ([`static_profile`]): with each
+/// point's standard error known, a chi-square whose variances are scaled up where the best
+/// fit is worse than they explain (`chi2_min` above the number of points); without them,
+/// the residual's own mean square is the variance.
+fn static_likelihood(points: &[cost::SteadyPoint], k: usize, grid: &[f64]) -> Vec<f64> {
+    let profile = static_profile(points, k, grid);
+    let s_min = profile.iter().copied().fold(f64::INFINITY, f64::min);
+    let n = points.len() as f64;
+    let known = points.iter().all(|q| q.force_std_error > 0.0);
+    let variance = if known {
+        (s_min / n).max(1.0)
+    } else {
+        s_min / n
+    };
+    profile
+        .iter()
+        .map(|s| {
+            let l = (s - s_min) / (2.0 * variance);
+            if l.is_finite() {
+                l.max(0.0)
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect()
+}
+
+/// Reads a stage's profile of a gene (`minus_log_l`: `ln L_max - ln L` on the scan grid) as
+/// a likelihood (see [`Identifiability`]); `at` turns a gene into physical units. Returns it
+/// and the posterior mean as a gene.
+fn read_profile(
+    minus_log_l: &[f64],
+    grid: &[f64],
+    best_gene: f64,
+    at: impl Fn(f64) -> f64,
+) -> (Identifiability, f64) {
     let sharp = Identifiability {
-        posterior_mean: at(best[k]),
-        interval95: [at(best[k]); 2],
+        posterior_mean: at(best_gene),
+        interval95: [at(best_gene); 2],
         identifiable: true,
     };
-    let grid: Vec<f64> = (0..SCAN_POINTS)
-        .map(|i| i as f64 / (SCAN_POINTS - 1) as f64)
-        .collect();
-    let minus_log_l: Vec<f64> = grid
-        .par_iter()
-        .map(|&g| {
-            let mut x = *best;
-            x[k] = g;
-            (n_eff * (cost(&x) - j_min) / (2.0 * j_min)).max(0.0)
-        })
-        .collect();
-    let inside: Vec<usize> = (0..SCAN_POINTS)
-        .filter(|&i| minus_log_l[i] <= 0.5 * 3.84)
-        .collect();
+    let inside = inside_95(minus_log_l);
     let (Some(&first), Some(&last)) = (inside.first(), inside.last()) else {
-        return (sharp, best[k]); // sharper than the grid
+        return (sharp, best_gene); // sharper than the grid
     };
     let w: Vec<f64> = minus_log_l.iter().map(|l| (-l).exp()).collect();
     let total: f64 = w.iter().sum();
@@ -423,23 +752,74 @@ fn identifiability<const N: usize>(
     let id = Identifiability {
         posterior_mean: at(mean_gene),
         interval95: [at(grid[first]), at(grid[last])],
-        identifiable: first > 0 && last < SCAN_POINTS - 1,
+        identifiable: first > 0 && last < grid.len() - 1,
     };
     (id, mean_gene)
 }
 
-/// Scans every gene of a stage at its optimum `genes` (cost `j_min`, residual of `n_eff`
-/// independent samples); genes the data does not bound move to their posterior mean.
+/// The grid points inside the 95 % likelihood-ratio interval (`2 (ln L_max - ln L) <= 3.84`).
+fn inside_95(minus_log_l: &[f64]) -> Vec<usize> {
+    (0..minus_log_l.len())
+        .filter(|&i| minus_log_l[i] <= 0.5 * 3.84)
+        .collect()
+}
+
+/// Zooms of the scan where a parameter's interval spans few points of the grid over the
+/// whole search range (a sharp parameter: the interval is read again on a finer grid about
+/// it, [`ZOOM_POINTS`] points from one grid step below to one above).
+const ZOOMS: usize = 4;
+/// Points of a zoomed scan.
+const ZOOM_POINTS: usize = 41;
+/// An interval spanning at least this many grid points is read as it is.
+const RESOLVED_POINTS: usize = 8;
+
+/// Scans every gene of a stage at its optimum `genes` through `profile` (gene index ->
+/// `ln L_max - ln L` on the scan grid); genes the data does not bound move to their
+/// posterior mean.
 fn scan_stage<const N: usize>(
-    cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
+    profile: &(dyn Fn(usize, &[f64]) -> Vec<f64> + Sync),
     bounds: &Bounds<N>,
     genes: &mut [f64; N],
-    j_min: f64,
-    n_eff: f64,
 ) -> [Identifiability; N] {
     let optimum = *genes;
     core::array::from_fn(|k| {
-        let (id, mean_gene) = identifiability(cost, bounds, &optimum, j_min, n_eff, k);
+        let at = |g: f64| {
+            let mut x = optimum;
+            x[k] = g;
+            bounds.decode(&x)[k]
+        };
+        let coarse = scan_grid();
+        let minus_log_l = profile(k, &coarse);
+        let (mut id, mean_gene) = read_profile(&minus_log_l, &coarse, optimum[k], at);
+        if id.identifiable {
+            // a sharp parameter: its interval from finer grids about it
+            let (mut grid, mut l) = (coarse, minus_log_l);
+            for _ in 0..ZOOMS {
+                let inside = inside_95(&l);
+                let (first, last) = match (inside.first(), inside.last()) {
+                    (Some(&a), Some(&b)) => (a, b),
+                    _ => {
+                        let best = (0..l.len())
+                            .min_by(|&i, &j| l[i].total_cmp(&l[j]))
+                            .unwrap_or(0);
+                        (best, best)
+                    }
+                };
+                if last - first + 1 >= RESOLVED_POINTS {
+                    break;
+                }
+                let step = grid[1] - grid[0];
+                let (lo, hi) = ((grid[first] - step).max(0.0), (grid[last] + step).min(1.0));
+                grid = (0..ZOOM_POINTS)
+                    .map(|i| lo + (hi - lo) * i as f64 / (ZOOM_POINTS - 1) as f64)
+                    .collect();
+                l = profile(k, &grid);
+            }
+            let inside = inside_95(&l);
+            if let (Some(&a), Some(&b)) = (inside.first(), inside.last()) {
+                id.interval95 = [at(grid[a]), at(grid[b])];
+            }
+        }
         if !id.identifiable {
             genes[k] = mean_gene;
         }
@@ -665,11 +1045,9 @@ pub fn identify(
     // noise-free data (a cost of exactly 0 or none at all) has a likelihood spike at the optimum
     if cs > 0.0 && cd > 0.0 && cs.is_finite() && cd.is_finite() {
         let [fc, dfs, s2, vs] = scan_stage(
-            &static_cost,
+            &|k, grid| static_likelihood(&data.points, k, grid),
             &STATIC_BOUNDS,
             &mut gs,
-            cs,
-            data.points.len() as f64,
         );
         let dv = search.decode(&gd);
         let quantised = (rec.encoder_resolution > 0.0)
@@ -687,9 +1065,25 @@ pub fn identify(
                 residual.len() as f64 / integrated_autocorrelation_time(&residual)
             }
         };
-        let [s0, s1] = scan_stage(&dynamic_cost, &search, &mut gd, cd, n_dyn);
+        let dynamic_optimum = gd;
+        let counted = std::sync::atomic::AtomicUsize::new(0);
+        let counted_cost = |g: &[f64; 2]| {
+            counted.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            dynamic_cost(g)
+        };
+        let [s0, s1] = scan_stage(
+            &|k, grid| {
+                profile_by_search(&counted_cost, &dynamic_optimum, k, grid)
+                    .iter()
+                    .map(|c| (n_dyn * (c - cd) / (2.0 * cd)).max(0.0))
+                    .collect()
+            },
+            &search,
+            &mut gd,
+        );
         ident = [s0, s1, s2, fc, dfs, vs].map(Some);
-        scan_evals = 6 * SCAN_POINTS;
+        // the static profile solves least squares instead of evaluating the cost
+        scan_evals = counted.into_inner();
     }
     let sv = STATIC_BOUNDS.decode(&gs);
     let dv = search.decode(&gd);

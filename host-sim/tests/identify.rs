@@ -458,3 +458,73 @@ fn a_leg_without_motion_is_left_out() {
         "{points:?}"
     );
 }
+
+/// A leg whose force is still settling (the bristles of a soft contact take many pre-sliding
+/// travels to reach their steady deflection) averages a force that is not the steady-state
+/// friction: it is left out, and a sweep of such legs is refused with the reason.
+#[test]
+fn a_leg_still_settling_is_left_out() {
+    let mut rec = logged_sweep(false);
+    // the first leg out (samples 301..=1100) approaches its force over 0.3 s
+    for (k, f) in rec.force[301..=1100].iter_mut().enumerate() {
+        *f *= 1.0 - 0.5 * (-(k as f64) / 300.0).exp();
+    }
+    let points = identify::steady_points_from_record(&rec, 100.0, "s.csv")
+        .expect("fifteen settled legs remain");
+    assert_eq!(points.len(), 15, "{points:?}");
+    assert!(
+        points.iter().all(|p| (p.velocity - 5e-4).abs() > 1e-4),
+        "{points:?}"
+    );
+    // each point carries its standard error, here next to nothing (a noise-free record)
+    assert!(
+        points.iter().all(|p| p.force_std_error < 0.05),
+        "{points:?}"
+    );
+    // every leg settling: refused, and the message says why
+    let mut rec = logged_sweep(false);
+    let mut k = 0.0f64;
+    for (f, r) in rec
+        .force
+        .iter_mut()
+        .zip(rec.x_ref.clone().unwrap().windows(2))
+    {
+        k = if r[1] == r[0] { 0.0 } else { k + 1.0 };
+        *f *= 1.0 - 0.5 * (-k / 300.0).exp();
+    }
+    let e = identify::steady_points_from_record(&rec, 100.0, "s.csv").unwrap_err();
+    assert!(e.to_string().contains("force still drifted"), "{e}");
+}
+
+/// A sweep without slow legs cannot tell the Stribeck level from its speed well: the
+/// identifiability scan must not call them identified with an interval that misses the truth.
+/// It profiles them (the other levels and the speed refitted at each value); a slice through
+/// the optimum, as before, called Fs - Fc identified at [119.75, 123.25] N with the legs from
+/// 0.8 vs up and at [32.5, 37.25] N from 1.5 vs up (truth 126 N).
+#[test]
+fn a_sweep_without_slow_legs_leaves_the_stribeck_hump_open() {
+    let truth = LugreParams::table2();
+    let cfg = host_sim::plant::PlantConfig::default();
+    let all = identify::realistic_data(&cfg, 3);
+    let hump = truth.static_force() - truth.coulomb_force();
+    for cut in [0.8, 1.5] {
+        let mut data = all.clone();
+        // only legs faster than `cut` vs: at 1.5 vs the hump is 126 exp(-2.25) = 13 N
+        data.points
+            .retain(|p| p.velocity.abs() > cut * truth.stribeck_velocity());
+        assert!(data.points.len() >= 8, "{}", data.points.len());
+        let r = identify::identify(Algorithm::Improved, &data, 3, Some(&truth));
+        for (k, name, t) in [(4, "Fs - Fc", hump), (5, "vs", truth.stribeck_velocity())] {
+            let id = r.identifiability[k].expect("noisy data is scanned");
+            println!("legs from {cut} vs, {name}: value {} {id:?}", r.values[k]);
+            assert!(
+                !id.identifiable || (id.interval95[0] <= t && t <= id.interval95[1]),
+                "legs from {cut} vs: {name} called identified, {:?}, truth {t}",
+                id.interval95
+            );
+        }
+        // the Coulomb level and the viscous slope stay well determined
+        let e = r.errors_pct.unwrap();
+        assert!(e.fc < 1.0 && e.sigma2 < 1.0, "{e:?}");
+    }
+}

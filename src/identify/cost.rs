@@ -34,6 +34,10 @@ pub struct SteadyPoint {
     pub velocity: f64,
     /// Mean friction force at that velocity \[N\].
     pub force: f64,
+    /// Standard error of `force` \[N\] as the leg's own scatter shows it (0: not known, as
+    /// for noise-free data). The static stage's fit is unweighted; the identifiability scan
+    /// weighs each point by it.
+    pub force_std_error: f64,
 }
 
 /// Builds the full parameter set from static genes' physical values
