@@ -170,36 +170,52 @@ pub enum DataProblem {
     #[error("the sweep record needs an x_ref column to find its constant-velocity legs")]
     NoReference,
     /// A sweep record with too few steady constant-velocity legs.
-    #[error(
-        "found {found} steady constant-velocity legs of at least 0.4 s, need 6 or more for the \
-         static stage{}{}",
-        if *.unsteady > 0 {
-            format!(
-                " ({unsteady} more left out: the axis did not slide steadily on them, as in \
-                 stick-slip; slower legs are where it sets in, so raise the slowest speed or \
-                 the loop's stiffness)"
-            )
-        } else {
-            String::new()
-        },
-        if *.settling > 0 {
-            format!(
-                " ({settling} more left out: their force still drifted over the leg, by more \
-                 than 1 % of it, as the bristles settle into sliding; lengthen those legs to \
-                 many times the contact's pre-sliding travel)"
-            )
-        } else {
-            String::new()
-        }
-    )]
+    #[error("{}", too_few_legs(*found, *unsteady, *ringing, *settling))]
     TooFewLegs {
         /// Steady legs found.
         found: usize,
-        /// Legs long enough but left out as not sliding steadily.
+        /// Legs long enough but left out as in stick-slip.
         unsteady: usize,
+        /// Legs left out because the axis's speed rang through zero while it slid.
+        ringing: usize,
         /// Legs left out because their force had not settled.
         settling: usize,
     },
+}
+
+/// The message of [`DataProblem::TooFewLegs`]: what was found, and for each kind of leg left
+/// out, how many and what to change.
+fn too_few_legs(found: usize, stick_slip: usize, ringing: usize, settling: usize) -> String {
+    let mut why = Vec::new();
+    if stick_slip > 0 {
+        why.push(format!(
+            "{stick_slip} in stick-slip (the axis stuck for part of the leg; slower legs are \
+             where it sets in, so raise the slowest speed or the loop's stiffness)"
+        ));
+    }
+    if ringing > 0 {
+        why.push(format!(
+            "{ringing} ringing (the axis's speed dipped through zero in dips of 15 ms or less \
+             while it slid, as a servo loop that oscillates does: not steady sliding, and the \
+             mean force is not the steady friction; damp the loop, with a lower gain or \
+             pressure feedback, and record again)"
+        ));
+    }
+    if settling > 0 {
+        why.push(format!(
+            "{settling} still settling (the force drifted over the leg by more than 1 % of it \
+             as the bristles settled into sliding; lengthen those legs to many times the \
+             contact's pre-sliding travel)"
+        ));
+    }
+    let mut m = format!(
+        "found {found} steady constant-velocity legs of at least 0.4 s, need 6 or more for the \
+         static stage"
+    );
+    if !why.is_empty() {
+        m += &format!("; left out: {}", why.join("; "));
+    }
+    m
 }
 
 fn known_effects() -> String {

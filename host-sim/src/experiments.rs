@@ -199,7 +199,7 @@ pub fn steady_point(r: &Record, i0: usize, i1: usize, mass: f64) -> SteadyPoint 
 }
 
 /// Blocks a leg's force is split into for its mean's standard error.
-const ERROR_BLOCKS: usize = 8;
+pub const ERROR_BLOCKS: usize = 8;
 
 /// The standard error of a leg's mean force \[N\]: the scatter of the means of
 /// [`ERROR_BLOCKS`] consecutive blocks (blocks of tens of milliseconds average out white

@@ -283,29 +283,62 @@ const STEADY_SUBWINDOW_MIN: usize = 5;
 /// stiffness, common at the slowest legs) averages a force that is not the steady-state
 /// friction at its mean velocity: measured on the independent generator's hydraulic axes,
 /// 245 N where `Fss(v)` is 445 N at 0.5 mm/s.
-fn slides_steadily(x: &[f64], window: std::ops::Range<usize>, resolution: f64) -> bool {
+///
+/// A leg that does not slide steadily is told apart by how long it stays slow: stuck for
+/// longer than [`RINGING_MAX_DIP_S`] at a time is stick-slip; only shorter dips is a servo
+/// ringing while it slides (the independent generator's hydraulic axes: dips of 5..10 ms
+/// at tens of hertz, their legs' mean forces 5..25 % below `Fss(v)`).
+fn slides_steadily(x: &[f64], window: std::ops::Range<usize>, resolution: f64, dt: f64) -> Sliding {
     let n = window.len();
     if n < 2 {
-        return true;
+        return Sliding::Steadily;
     }
     let per_sample = (x[window.end - 1] - x[window.start]) / (n - 1) as f64;
     if per_sample == 0.0 || per_sample.is_nan() {
-        return false; // the axis did not move at all
+        return Sliding::InStickSlip; // the axis did not move at all
     }
     let part = ((STEADY_SUBWINDOW_COUNTS * resolution / per_sample.abs()).ceil() as usize)
         .max(STEADY_SUBWINDOW_MIN);
     if n / part < 2 {
-        return true; // too short to judge at this count
+        return Sliding::Steadily; // too short to judge at this count
     }
-    (0..n / part).all(|k| {
+    // the longest run of slow sub-windows [samples]
+    let (mut run, mut longest) = (0, 0);
+    for k in 0..n / part {
         let a = window.start + k * part;
         let b = (a + part).min(window.end - 1);
         let v = (x[b] - x[a]) / (b - a) as f64;
-        v / per_sample >= STUCK_FRACTION
-    })
+        if v / per_sample >= STUCK_FRACTION {
+            run = 0;
+        } else {
+            run += b - a;
+            longest = longest.max(run);
+        }
+    }
+    match longest {
+        0 => Sliding::Steadily,
+        l if l as f64 * dt <= RINGING_MAX_DIP_S => Sliding::Ringing,
+        _ => Sliding::InStickSlip,
+    }
 }
 
-/// Largest drift of a settled leg's force, as a fraction of its mean (see [`has_settled`]).
+/// How a leg slides (see [`slides_steadily`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Sliding {
+    /// Never slower than a fifth of its mean velocity.
+    Steadily,
+    /// Slow for longer than [`RINGING_MAX_DIP_S`] at a time: stick-slip.
+    InStickSlip,
+    /// Only brief dips: a servo ringing about the leg's speed.
+    Ringing,
+}
+
+/// Longest dip below a fifth of the leg's speed that still counts as ringing, not sticking
+/// \[s\] (stick-slip on the generator's hydraulic axes stuck for 20 ms of every 60).
+const RINGING_MAX_DIP_S: f64 = 0.015;
+
+/// Largest drift of a settled leg's force, as a fraction of its mean (see
+/// [`steady_points_from_record`]).
 pub const SETTLED_DRIFT: f64 = 0.01;
 
 /// Whether the force over `window` has settled: the mean of its last third differs from the
@@ -361,7 +394,7 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
     let jitter = 1.5 * encoder_resolution(x_ref) / dt;
     let resolution = encoder_resolution(&rec.x);
     let mut points = Vec::new();
-    let (mut unsteady, mut settling) = (0, 0);
+    let (mut unsteady, mut ringing, mut settling) = (0, 0, 0);
     let mut i = 0;
     while i < v_ref.len() {
         // the leg: the samples that stay with the running mean of those before them
@@ -377,8 +410,11 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
         let v = sum / (j - i) as f64;
         let window = i + (j - i) * 2 / 5..j;
         if v.abs() > 1e-5 && (j - i) as f64 * dt >= 0.4 {
-            if !slides_steadily(&rec.x, window.clone(), resolution) {
+            let sliding = slides_steadily(&rec.x, window.clone(), resolution, dt);
+            if sliding == Sliding::InStickSlip {
                 unsteady += 1;
+            } else if sliding == Sliding::Ringing {
+                ringing += 1;
             } else if !has_settled(&rec.force, window.clone()) {
                 settling += 1;
             } else {
@@ -398,6 +434,7 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
             DataProblem::TooFewLegs {
                 found: points.len(),
                 unsteady,
+                ringing,
                 settling,
             },
         ));
@@ -1131,4 +1168,49 @@ pub fn identify(
 pub fn params_of(r: &RunResult) -> Option<LugreParams<f64>> {
     let [s0, s1, s2, fc, dfs, vs] = r.values;
     cost::params(&[fc, dfs, s2, vs], &[s0, s1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A leg at 10 mm/s, 0.48 s at 1 kHz, 1 um count, with the motion `extra` added.
+    fn leg(extra: impl Fn(f64) -> f64) -> Vec<f64> {
+        (0..480)
+            .map(|k| {
+                let t = k as f64 * 1e-3;
+                ((0.01 * t + extra(t)) / 1e-6).round() * 1e-6
+            })
+            .collect()
+    }
+
+    /// Steady sliding, a servo ringing through zero speed at 60 Hz, and stick-slip (stuck
+    /// 45 ms of every 50) are told apart.
+    #[test]
+    fn ringing_is_told_from_stick_slip() {
+        let steady = leg(|_| 0.0);
+        assert_eq!(
+            slides_steadily(&steady, 0..480, 1e-6, 1e-3),
+            Sliding::Steadily
+        );
+        // speed 10 mm/s +- 12 mm/s at 60 Hz: dips below zero for a few ms per cycle
+        let w = std::f64::consts::TAU * 60.0;
+        let ringing = leg(|t| 0.012 / w * (w * t).sin());
+        assert_eq!(
+            slides_steadily(&ringing, 0..480, 1e-6, 1e-3),
+            Sliding::Ringing
+        );
+        // stuck for 45 ms, then the whole cycle's travel in 5 ms
+        let stick_slip: Vec<f64> = (0..480)
+            .map(|k| {
+                let (cycle, within) = ((k / 50) as f64, (k % 50) as f64);
+                let slid = ((within - 45.0) / 5.0).clamp(0.0, 1.0);
+                ((0.01 * 0.05 * (cycle + slid)) / 1e-6).round() * 1e-6
+            })
+            .collect();
+        assert_eq!(
+            slides_steadily(&stick_slip, 0..480, 1e-6, 1e-3),
+            Sliding::InStickSlip
+        );
+    }
 }

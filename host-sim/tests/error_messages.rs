@@ -246,9 +246,8 @@ fn identification_data_messages() {
             .to_string(),
         // the record's axis does not follow its reference: the one leg is not sliding
         "s.csv: found 0 steady constant-velocity legs of at least 0.4 s, need 6 or more for \
-         the static stage (1 more left out: the axis did not slide steadily on them, as in \
-         stick-slip; slower legs are where it sets in, so raise the slowest speed or the \
-         loop's stiffness)"
+         the static stage; left out: 1 in stick-slip (the axis stuck for part of the leg; \
+         slower legs are where it sets in, so raise the slowest speed or the loop's stiffness)"
     );
 }
 

@@ -493,7 +493,7 @@ fn a_leg_still_settling_is_left_out() {
         *f *= 1.0 - 0.5 * (-k / 300.0).exp();
     }
     let e = identify::steady_points_from_record(&rec, 100.0, "s.csv").unwrap_err();
-    assert!(e.to_string().contains("force still drifted"), "{e}");
+    assert!(e.to_string().contains("16 still settling"), "{e}");
 }
 
 /// A sweep without slow legs cannot tell the Stribeck level from its speed well: the
