@@ -101,11 +101,11 @@ fn main() {
         let rests: Vec<f64> = brk.departures.iter().map(|e| e.rest_s).collect();
         let sp = spearman(&rests, &r);
         let (tb, tdf) = rtrend(&rests, &r);
-        let mut s = format!("  RES spearman={sp:.2} trend_dbic={tb:.1} dF={tdf:.1}\n");
-        s += &format!(
+        let mut s = format!(
             "{seed} {:?} M={:.0} s0={:.1e} Fs={:.0} {:?}\n  deps={} noise(meas-truth)={:.1} effect(truth-nodwell)={:.1} meas-base={:.1} meas-dwellfit={:.1} trend={:?} caution={:?}\n",
             axis.actuator, axis.mass_kg, axis.sigma0, axis.static_n, axis.shape, meas.len(), rms(&meas, &pt), rms(&pt, &pn), rms(&meas, &pb), rms(&meas, &pd),
             brk.trend.as_ref().map(|t| (t.increase_n, t.delta_bic)), dw.and_then(|c| c.caution.clone()));
+        s += &format!("  residual peaks against the rest: rank correlation {sp:.2}, trend dBIC {tb:.1}, dF {tdf:.1} N\n");
         let clock: Vec<f64> = match dw.and_then(|c| c.fit.as_ref()) {
             Some(f) => {
                 let sim = f.model.simulate(p);
