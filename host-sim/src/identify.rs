@@ -343,8 +343,8 @@ pub const SETTLED_DRIFT: f64 = 0.01;
 
 /// Whether the force over `window` has settled: the mean of its last third differs from the
 /// mean of its first third by at most [`SETTLED_DRIFT`] of the window's mean force, or by
-/// no more than 4 standard errors of that difference (white noise about a line; a lower
-/// bound where the noise is coloured, which errs towards keeping the leg). A leg shorter
+/// no more than 4 standard errors of that difference (white noise about a line: where the
+/// noise is coloured that understates it, and the 1 % then decides). A leg shorter
 /// than many pre-sliding travels is still settling: the bristles approach their steady
 /// deflection over a travel of the order of `Fc / sigma0`, tens to hundreds of micrometres
 /// on soft contacts. Measured on the independent generator: settled legs drift by 0.6 % at
@@ -477,7 +477,7 @@ fn scan_grid() -> Vec<f64> {
 /// The profile of gene `k` of a stage by search: at each grid value the other genes are
 /// re-optimised (a Nelder-Mead run warm-started from the neighbouring grid point's optimum,
 /// marching out from `best`); returns the lowest cost found at each grid point (never above
-/// the slice through `best`'s neighbours).
+/// the cost at the warm start itself).
 fn profile_by_search<const N: usize>(
     cost: &(dyn Fn(&[f64; N]) -> f64 + Sync),
     best: &[f64; N],
