@@ -442,11 +442,13 @@ pub fn steady_points_from_record(rec: &Record, mass: f64, name: &str) -> Result<
     Ok(points)
 }
 
-/// What the data says about one parameter: the likelihood along its whole search range
-/// (the other parameters at their optimum), from the cost `J` as a normalised mean squared
-/// residual: `ln L(g) - ln L_max = -n_eff (J(g) - J_min) / (2 J_min)`, with `n_eff` the
-/// residual's effective number of independent samples (its integrated autocorrelation time
-/// taken out). Under the uniform prior of the search range this gives a posterior.
+/// What the data says about one parameter: its profile likelihood along its whole search
+/// range (the stage's other parameters fitted again at each value). Static stage: a
+/// chi-square of the steady points with their standard errors, profiled exactly.
+/// Dynamic stage: from the cost `J` as a normalised mean squared residual, `ln L(g) - ln L_max
+/// = -n_eff (J(g) - J_min) / (2 J_min)`, with `n_eff` the residual's effective number of
+/// independent samples (its integrated autocorrelation time taken out), or the count edges'
+/// chi-square. Under the uniform prior of the search range this gives a posterior.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Identifiability {
     /// Posterior mean [physical units].
