@@ -201,26 +201,33 @@ pub fn steady_point(r: &Record, i0: usize, i1: usize, mass: f64) -> SteadyPoint 
 /// Blocks a leg's force is split into for its mean's standard error.
 pub const ERROR_BLOCKS: usize = 8;
 
+/// How much a leg's force moved over it \[N\]: the mean of its last third less the mean of its
+/// first third (a force still settling; 0 for fewer than three samples).
+pub fn settling_drift(f: &[f64]) -> f64 {
+    let third = f.len() / 3;
+    if third == 0 {
+        return 0.0;
+    }
+    crate::stats::mean(&f[f.len() - third..]) - crate::stats::mean(&f[..third])
+}
+
 /// The standard error of a leg's mean force \[N\]: the scatter of the means of
 /// [`ERROR_BLOCKS`] consecutive blocks (blocks of tens of milliseconds average out white
 /// sensor noise but not a servo's ringing or a slow drift, which move the mean as much), and
-/// half the difference between the last and the first third (what a force still settling
-/// leaves in the mean), added in quadrature.
+/// half the [`settling_drift`] (what a force still settling leaves in the mean), added in
+/// quadrature.
 pub fn mean_force_error(f: &[f64]) -> f64 {
-    let n = f.len();
-    if n < 3 * ERROR_BLOCKS {
+    if f.len() < 3 * ERROR_BLOCKS {
         return 0.0;
     }
-    let mean = |s: &[f64]| s.iter().sum::<f64>() / s.len() as f64;
-    let len = n / ERROR_BLOCKS;
-    let blocks: Vec<f64> = (0..ERROR_BLOCKS)
-        .map(|b| mean(&f[b * len..(b + 1) * len]))
+    let blocks: Vec<f64> = f
+        .chunks_exact(f.len() / ERROR_BLOCKS)
+        .take(ERROR_BLOCKS)
+        .map(crate::stats::mean)
         .collect();
-    let m = mean(&blocks);
-    let var = blocks.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (ERROR_BLOCKS - 1) as f64;
-    let third = n / 3;
-    let drift = 0.5 * (mean(&f[n - third..]) - mean(&f[..third]));
-    (var / ERROR_BLOCKS as f64 + drift * drift).sqrt()
+    let scatter = crate::stats::std_dev(&blocks);
+    let drift = 0.5 * settling_drift(f);
+    (scatter * scatter / ERROR_BLOCKS as f64 + drift * drift).sqrt()
 }
 
 /// Slow force ramp below breakaway (pre-sliding): force-controlled, `0 -> +frac Fs -> -frac Fs

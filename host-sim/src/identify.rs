@@ -356,9 +356,8 @@ fn has_settled(force: &[f64], window: std::ops::Range<usize>) -> bool {
     if k < 3 {
         return true; // too short to judge
     }
-    let mean = |s: &[f64]| s.iter().sum::<f64>() / s.len() as f64;
-    let (first, last, all) = (mean(&f[..k]), mean(&f[f.len() - k..]), mean(f));
-    let drift = (last - first).abs();
+    let drift = experiments::settling_drift(f).abs();
+    let all = crate::stats::mean(f);
     // the noise about the straight line through the window
     let n = f.len() as f64;
     let mid = 0.5 * (n - 1.0);
@@ -635,12 +634,12 @@ const PROFILE_VS_POINTS: usize = 201;
 /// Returns the points' residual sum of squares at each grid value, weighted by
 /// `1 / force_std_error^2` where every point has one (a chi-square), unweighted otherwise.
 fn static_profile(points: &[cost::SteadyPoint], k: usize, grid: &[f64]) -> Vec<f64> {
-    let weight: Vec<f64> = if points.iter().all(|q| q.force_std_error > 0.0) {
-        points.iter().map(|q| q.force_std_error.powi(-2)).collect()
+    // the square roots of the weights, which multiply the rows
+    let root: Vec<f64> = if errors_known(points) {
+        points.iter().map(|q| 1.0 / q.force_std_error).collect()
     } else {
         vec![1.0; points.len()]
     };
-    let root: Vec<f64> = weight.iter().map(|w| w.sqrt()).collect();
     let bounds = STATIC_BOUNDS;
     let force = |values: [f64; 4], v: f64| {
         cost::params(&values, &[1e9, 0.0]).map_or(f64::NAN, |p| p.steady_state_force(v))
@@ -748,8 +747,7 @@ fn static_likelihood(points: &[cost::SteadyPoint], k: usize, grid: &[f64]) -> Ve
     let profile = static_profile(points, k, grid);
     let s_min = profile.iter().copied().fold(f64::INFINITY, f64::min);
     let n = points.len() as f64;
-    let known = points.iter().all(|q| q.force_std_error > 0.0);
-    let variance = if known {
+    let variance = if errors_known(points) {
         (s_min / n).max(1.0)
     } else {
         s_min / n
@@ -765,6 +763,12 @@ fn static_likelihood(points: &[cost::SteadyPoint], k: usize, grid: &[f64]) -> Ve
             }
         })
         .collect()
+}
+
+/// Whether every steady point carries a standard error (a measured sweep's do; noise-free
+/// data's are 0).
+fn errors_known(points: &[cost::SteadyPoint]) -> bool {
+    points.iter().all(|q| q.force_std_error > 0.0)
 }
 
 /// Reads a stage's profile of a gene (`minus_log_l`: `ln L_max - ln L` on the scan grid) as

@@ -4,6 +4,7 @@ use host_sim::identify::{self, Algorithm};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
 use lugre_servo::friction::LugreParams;
+use lugre_servo::identify::cost::SteadyPoint;
 use std::path::Path;
 
 #[test]
@@ -428,13 +429,19 @@ fn sweep_legs_survive_a_rounded_reference_and_stick_slip_legs_are_left_out() {
         let expected = 300.0 * p.velocity.signum() + 1000.0 * p.velocity;
         assert!((p.force - expected).abs() < 1.0, "{p:?} vs {expected}");
     }
-    let points = identify::steady_points_from_record(&logged_sweep(true), 100.0, "s.csv")
-        .expect("a sweep with one leg in stick-slip");
+    points_without_the_first_leg(&logged_sweep(true), "a sweep with one leg in stick-slip");
+}
+
+/// The points of a [`logged_sweep`] whose first leg out (0.5 mm/s) must be the one left out:
+/// fifteen, none at that speed.
+fn points_without_the_first_leg(rec: &Record, what: &str) -> Vec<SteadyPoint> {
+    let points = identify::steady_points_from_record(rec, 100.0, "s.csv").expect(what);
     assert_eq!(points.len(), 15, "{points:?}");
     assert!(
         points.iter().all(|p| (p.velocity - 5e-4).abs() > 1e-4),
         "{points:?}"
     );
+    points
 }
 
 /// A leg on which a quantised reading does not move at all (the axis stuck for the whole
@@ -450,13 +457,7 @@ fn a_leg_without_motion_is_left_out() {
     for x in &mut rec.x {
         *x = (*x / 1e-7).round() * 1e-7;
     }
-    let points = identify::steady_points_from_record(&rec, 100.0, "s.csv")
-        .expect("fifteen steady legs remain");
-    assert_eq!(points.len(), 15, "{points:?}");
-    assert!(
-        points.iter().all(|p| (p.velocity - 5e-4).abs() > 1e-4),
-        "{points:?}"
-    );
+    points_without_the_first_leg(&rec, "fifteen steady legs remain");
 }
 
 /// A leg whose force is still settling (the bristles of a soft contact take many pre-sliding
@@ -469,13 +470,7 @@ fn a_leg_still_settling_is_left_out() {
     for (k, f) in rec.force[301..=1100].iter_mut().enumerate() {
         *f *= 1.0 - 0.5 * (-(k as f64) / 300.0).exp();
     }
-    let points = identify::steady_points_from_record(&rec, 100.0, "s.csv")
-        .expect("fifteen settled legs remain");
-    assert_eq!(points.len(), 15, "{points:?}");
-    assert!(
-        points.iter().all(|p| (p.velocity - 5e-4).abs() > 1e-4),
-        "{points:?}"
-    );
+    let points = points_without_the_first_leg(&rec, "fifteen settled legs remain");
     // each point carries its standard error, here next to nothing (a noise-free record)
     assert!(
         points.iter().all(|p| p.force_std_error < 0.05),

@@ -18,6 +18,20 @@ pub struct Levels<T> {
     pub viscous: T,
 }
 
+/// What the conditions (pressure, position, temperature) and the dwell time do to the levels,
+/// whatever the direction (see [`FrictionModel::levels`]).
+#[derive(Clone, Copy, Debug)]
+struct ConditionFactors<T> {
+    /// `1 + dF(p) / Fs` of `load_dependence`.
+    load_scale: Option<T>,
+    /// Added to both levels by `position_dependence` \[N\] (0 without it).
+    position_shift: T,
+    /// `temperature_dependence`'s scale of both levels and factor of the viscous coefficient.
+    temperature: Option<(T, T)>,
+    /// `dwell_stiction`'s increase of the static level \[N\].
+    dwell_increase: Option<T>,
+}
+
 /// Mutable state of a [`FrictionModel`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrictionState<T> {
@@ -59,47 +73,80 @@ impl<T: ModelFloat> FrictionModel<T> {
 
     /// Coulomb, static and viscous levels at velocity `v`, conditions `c` and dwell time.
     pub fn levels(&self, velocity: T, c: &Conditions<T>, dwell_time: T) -> Levels<T> {
-        let p = &self.params;
+        self.levels_in(
+            velocity >= T::zero(),
+            &self.condition_factors(c, dwell_time),
+        )
+    }
+
+    /// The levels of both directions, forward (v >= 0) then backward, at conditions `c` and
+    /// dwell time: the conditions' factors (a power, cosines, exponentials) are evaluated
+    /// once for both.
+    pub fn levels_by_direction(&self, c: &Conditions<T>, dwell_time: T) -> (Levels<T>, Levels<T>) {
+        let f = self.condition_factors(c, dwell_time);
+        let forward = self.levels_in(true, &f);
+        let backward = if self.effects.asymmetry.is_some() {
+            self.levels_in(false, &f)
+        } else {
+            forward
+        };
+        (forward, backward)
+    }
+
+    /// What the conditions and the dwell time do to the levels, whatever the direction.
+    fn condition_factors(&self, c: &Conditions<T>, dwell_time: T) -> ConditionFactors<T> {
         let e = &self.effects;
-        let mut coulomb = p.coulomb_force();
-        let mut static_ = p.static_force();
-        let mut viscous = p.viscous_coefficient();
-        if let Some(a) = e.asymmetry {
-            let s = if velocity >= T::zero() {
-                T::one()
-            } else {
-                -T::one()
-            };
-            coulomb = coulomb * (T::one() + s * a.coulomb_ratio);
-            static_ = static_ * (T::one() + s * a.static_ratio);
-            viscous = viscous * (T::one() + s * a.viscous_ratio);
-        }
-        if let Some(l) = e.load_dependence {
+        ConditionFactors {
             // the seal's normal force grows with the pressure and both levels scale with it:
             // `k` is the static level's slope, the Coulomb level follows in proportion (the
             // static level, not the Coulomb one, as the reference: a fit whose Coulomb level
             // sits at zero, its friction all in the hump, would make the scale singular; Fs > 0
             // is a LugreParams invariant)
-            let scale = (T::one() + l.shift(c.pressure_sum) / p.static_force()).max(T::zero());
+            load_scale: e.load_dependence.map(|l| {
+                (T::one() + l.shift(c.pressure_sum) / self.params.static_force()).max(T::zero())
+            }),
+            position_shift: e
+                .position_dependence
+                .map_or(T::zero(), |x| x.shift(c.position)),
+            temperature: e.temperature_dependence.map(|t| {
+                let dt = c.temperature - t.reference_temperature;
+                (
+                    T::one() + t.coulomb_per_kelvin * dt,
+                    (-t.viscous_per_kelvin * dt).exp(),
+                )
+            }),
+            dwell_increase: e.dwell_stiction.map(|d| {
+                let tau = d.time_constant.max(T::min_positive_value());
+                d.max_increase * (-(-dwell_time / tau).exp_m1())
+            }),
+        }
+    }
+
+    /// The levels in one direction (`forward`: v >= 0) under the conditions' factors.
+    fn levels_in(&self, forward: bool, f: &ConditionFactors<T>) -> Levels<T> {
+        let p = &self.params;
+        let mut coulomb = p.coulomb_force();
+        let mut static_ = p.static_force();
+        let mut viscous = p.viscous_coefficient();
+        if let Some(a) = self.effects.asymmetry {
+            let s = if forward { T::one() } else { -T::one() };
+            coulomb = coulomb * (T::one() + s * a.coulomb_ratio);
+            static_ = static_ * (T::one() + s * a.static_ratio);
+            viscous = viscous * (T::one() + s * a.viscous_ratio);
+        }
+        if let Some(scale) = f.load_scale {
             coulomb = coulomb * scale;
             static_ = static_ * scale;
         }
-        let mut shift = T::zero();
-        if let Some(x) = e.position_dependence {
-            shift = shift + x.shift(c.position);
-        }
-        coulomb = coulomb + shift;
-        static_ = static_ + shift;
-        if let Some(t) = e.temperature_dependence {
-            let dt = c.temperature - t.reference_temperature;
-            let scale = T::one() + t.coulomb_per_kelvin * dt;
+        coulomb = coulomb + f.position_shift;
+        static_ = static_ + f.position_shift;
+        if let Some((scale, viscous_factor)) = f.temperature {
             coulomb = coulomb * scale;
             static_ = static_ * scale;
-            viscous = viscous * (-t.viscous_per_kelvin * dt).exp();
+            viscous = viscous * viscous_factor;
         }
-        if let Some(d) = e.dwell_stiction {
-            let tau = d.time_constant.max(T::min_positive_value());
-            static_ = static_ + d.max_increase * (-(-dwell_time / tau).exp_m1());
+        if let Some(increase) = f.dwell_increase {
+            static_ = static_ + increase;
         }
         // A seal never pushes: keep levels physical whatever the conditions.
         let tiny = T::from(1e-6).unwrap_or_else(T::epsilon);
@@ -207,12 +254,7 @@ impl<T: ModelFloat> FrictionModel<T> {
         }
         // The levels depend on the velocity only through the direction of `asymmetry`: one
         // evaluation per direction serves the step, the bound and the viscous force.
-        let forward = self.levels(T::one(), c, s.dwell_time);
-        let backward = if self.effects.asymmetry.is_some() {
-            self.levels(-T::one(), c, s.dwell_time)
-        } else {
-            forward
-        };
+        let (forward, backward) = self.levels_by_direction(c, s.dwell_time);
         let at = |v: T| if v >= T::zero() { forward } else { backward };
         let l = at(mean_velocity);
         let g = self.stribeck_curve(mean_velocity, &l);
