@@ -90,6 +90,14 @@ fn run(seed: u64) -> Outcome {
             .map_err(|e| e.to_string())?;
         data.points = identify::steady_points_from_record(&s, axis.mass_kg, "sweep.csv")
             .map_err(|e| e.to_string())?;
+        if std::env::var("TOLD").is_ok() {
+            // what the rig's engineer knows: a force actuator logs its set-point (held over
+            // the period), a cylinder its chamber pressures (sampled)
+            data.force_timing = Some(match format!("{:?}", axis.actuator).as_str() {
+                "Force" => identify::ForceTiming::Held,
+                _ => identify::ForceTiming::Sampled,
+            });
+        }
         Ok(data)
     })();
     let head = format!(
@@ -149,8 +157,9 @@ fn run(seed: u64) -> Outcome {
     Outcome {
         seed,
         line: format!(
-            "{head}  read {}  errors: sigma0 {:6.1} % sigma1 {:6.1} % sigma2 {:5.2} % Fc {:5.2} % Fs-Fc {:6.2} % vs {:6.2} %  sigma0 interval holds: {holds}  at bound {:?}",
+            "{head}  read {} force {:?}  errors: sigma0 {:6.1} % sigma1 {:6.1} % sigma2 {:5.2} % Fc {:5.2} % Fs-Fc {:6.2} % vs {:6.2} %  sigma0 interval holds: {holds}  at bound {:?}",
             if data.encoder_resolution_m > 0.0 { "edges    " } else { "staircase" },
+            r.force_timing,
             e.sigma0, e.sigma1, e.sigma2, e.fc, e.fs_minus_fc, e.vs, r.at_bound
         ),
         errors: Some([e.sigma0, e.sigma1, e.sigma2, e.fc, e.fs_minus_fc, e.vs]),

@@ -35,6 +35,11 @@ pub struct Args {
     /// Moving mass [kg] (measured data).
     #[arg(long, default_value_t = 200.0)]
     mass: f64,
+    /// How the dynamic record's force was logged: `sampled` at each instant (a load cell,
+    /// chamber pressures), `held` over the period before each sample (a drive's force
+    /// set-point), or `auto` (the better fit of the two).
+    #[arg(long, value_enum, default_value = "auto")]
+    force_timing: Timing,
     /// Parameter file to write.
     #[arg(long, default_value = "identified.toml")]
     out: PathBuf,
@@ -47,6 +52,14 @@ pub struct Args {
     /// Benchmark results as JSON.
     #[arg(long)]
     json: Option<PathBuf>,
+}
+
+/// The force timings, as typed on the command line.
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Timing {
+    Auto,
+    Sampled,
+    Held,
 }
 
 /// The algorithms, as typed on the command line.
@@ -79,6 +92,11 @@ fn data(a: &Args, seed: u64) -> Result<(IdentData, Option<LugreParams<f64>>, Str
             let mut data =
                 identify::dynamic_from_record(&dynamic, a.mass, &d.display().to_string())?;
             data.points = points;
+            data.force_timing = match a.force_timing {
+                Timing::Auto => None,
+                Timing::Sampled => Some(identify::ForceTiming::Sampled),
+                Timing::Held => Some(identify::ForceTiming::Held),
+            };
             Ok((
                 data,
                 None,
@@ -156,6 +174,22 @@ pub fn run(a: &Args) -> Result<()> {
     println!(
         "  costs: static {:.3e}, dynamic {:.3e}; {} evaluations, {:.2} s",
         r.costs.0, r.costs.1, r.evaluations, r.wall_s
+    );
+    println!(
+        "  dynamic record: force read as {}{}; position read {}",
+        r.force_timing.describe(),
+        match (data.force_timing, data.force_if_held.is_empty()) {
+            (_, true) => "",
+            (None, false) => " (the better fit)",
+            (Some(_), false) => " (as told)",
+        },
+        if data.encoder_resolution_m > 0.0 {
+            "at its count edges"
+        } else if !data.velocity_staircase.is_empty() {
+            "between its count edges (intervals cover the staircase reading too)"
+        } else {
+            "as it is"
+        }
     );
     print_identifiability(&r);
     if !r.at_bound.is_empty() {

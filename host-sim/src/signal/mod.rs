@@ -11,4 +11,4 @@ pub mod sensor;
 pub use autocorrelation::integrated_autocorrelation_time;
 pub use difference::central_difference;
 pub use filter::{segmented, LowPass};
-pub use sensor::{encoder_resolution, force_noise};
+pub use sensor::{edge_interpolated, encoder_resolution, force_noise};
