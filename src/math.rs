@@ -9,7 +9,9 @@
 //! - default: `libm` (`expf`, `exp`), correctly rounded to within 1 ulp;
 //! - feature `micromath`, f32 only: `micromath`'s approximation, cheaper on the Cortex-M4F
 //!   and less accurate. What it costs in the tick and in friction force is measured in the
-//!   README (firmware section); f64 always uses `libm`.
+//!   README (firmware section);
+//! - f64: `libm`'s `exp`, or with the `std` feature (the host) the platform's, as accurate
+//!   and faster (measured: one realistic identification run 1.37 -> 1.16 s).
 //!
 //! Contract: for `x <= 0` the result is in `[0, 1]`, as the exact function's; the bristle step's
 //! stability rests on it (its decay factor must not exceed one). `libm` keeps it by being
@@ -41,8 +43,16 @@ pub trait ModelFloat: Float {
 }
 
 impl ModelFloat for f64 {
+    #[cfg(not(feature = "std"))]
     fn model_exp(self) -> Self {
         libm::exp(self)
+    }
+
+    /// On the host, the platform's exponential (glibc's, within 1 ulp as `libm`'s, and
+    /// faster: the identification's cost evaluations spend a third of their time here).
+    #[cfg(feature = "std")]
+    fn model_exp(self) -> Self {
+        self.exp()
     }
 }
 
