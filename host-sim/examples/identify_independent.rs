@@ -11,7 +11,9 @@
 //!
 //! `cargo run --release -p host-sim --example identify_independent [-- N]` (`WRITE=DIR` also
 //! writes each axis's two records there; `INTERVALS=1` prints each parameter's 95 % interval
-//! and the truth on stderr)
+//! and the truth on stderr; `TOLD=1` tells the identification how each axis logs its force,
+//! as `identify --force-timing` does: a force actuator its set-point, held over the period;
+//! a cylinder its chamber pressures, sampled)
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 

@@ -313,8 +313,8 @@ pub fn dynamic_from_record(rec: &Record, mass: f64, name: &str) -> Result<IdentD
     let velocity = staircase(&rec.x);
     // a coarse count (a reversal's flip spans few counts) is read at its edges; a fine one
     // drives the model through the position interpolated between its edges (see
-    // `edge_interpolated`; measured on the independent generator's force actuators, 1 um
-    // count: sigma0's median error 10.7 % by the staircase, 6.0 % so)
+    // `edge_interpolated`; measured on the independent generator's axes, 1 um count:
+    // sigma0's median error 10.7 % by the staircase, 6.5 % so)
     let coarse =
         cost::crossings_per_stretch(&velocity, p.dt, resolution) <= COARSE_CROSSINGS_PER_STRETCH;
     let (velocity, velocity_staircase) = if coarse || resolution == 0.0 {
@@ -1215,8 +1215,10 @@ pub fn identify(
         force_noise: data.force_noise_n,
     };
     let search = data.dynamic_bounds;
+    // the mean of two samples: its white noise is that of one over sqrt(2)
     let held = DynamicRecord {
         force: &data.force_if_held,
+        force_noise: rec.force_noise * std::f64::consts::FRAC_1_SQRT_2,
         ..rec
     };
     let can_hold = data.force_if_held.len() == data.force.len();
