@@ -167,17 +167,23 @@ pub fn dynamic_displacement(t: f64) -> f64 {
     AMPLITUDE_M * t * (2.0 * std::f64::consts::PI * FREQUENCY_HZ * t).sin()
 }
 
-/// The paper's setting: noise-free values of the true model.
-pub fn ideal_data(truth: &LugreParams<f64>) -> IdentData {
-    let points = sweep_speeds()
+/// Steady points of a model at the sweep's speeds in both directions, each with the standard
+/// error `force_std_error` \[N\].
+pub fn model_points(truth: &LugreParams<f64>, force_std_error: f64) -> Vec<SteadyPoint> {
+    sweep_speeds()
         .iter()
         .flat_map(|&v| [v, -v])
         .map(|v| SteadyPoint {
             velocity: v,
             force: truth.steady_state_force(v),
-            force_std_error: 0.0,
+            force_std_error,
         })
-        .collect();
+        .collect()
+}
+
+/// The paper's setting: noise-free values of the true model.
+pub fn ideal_data(truth: &LugreParams<f64>) -> IdentData {
+    let points = model_points(truth, 0.0);
     let dt = 1e-3;
     let n = 1000;
     // mean velocity over each period: the displacement over the period divided by its length
@@ -772,25 +778,8 @@ fn static_profile(points: &[cost::SteadyPoint], k: usize, grid: &[f64]) -> Vec<f
                 .min_by(|a, b| a.1.total_cmp(&b.1))
                 .unwrap_or((0, f64::INFINITY));
             // golden section about the best grid speed
-            let ssr_at = |h: f64| fit(&basis(vs_at(h)), fixed);
-            let step = 1.0 / (PROFILE_VS_POINTS - 1) as f64;
-            let h0 = fine[i_best].0;
-            let (mut a, mut b) = ((h0 - step).max(0.0), (h0 + step).min(1.0));
-            let r = 0.5 * (5f64.sqrt() - 1.0);
-            let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
-            let (mut fc, mut fd) = (ssr_at(c), ssr_at(d));
-            for _ in 0..GOLDEN_STEPS {
-                if fc < fd {
-                    (b, d, fd) = (d, c, fc);
-                    c = b - r * (b - a);
-                    fc = ssr_at(c);
-                } else {
-                    (a, c, fc) = (c, d, fd);
-                    d = a + r * (b - a);
-                    fd = ssr_at(d);
-                }
-            }
-            s_best.min(fc).min(fd)
+            let (_, s_golden) = golden_about(|h| fit(&basis(vs_at(h)), fixed), fine[i_best].0);
+            s_best.min(s_golden)
         })
         .collect()
 }
@@ -842,27 +831,38 @@ fn static_exact_optimum(points: &[cost::SteadyPoint]) -> Option<([f64; 4], f64, 
         .map(|i| (i as f64 * step, ssr(i as f64 * step)))
         .min_by(|a, b| a.1.total_cmp(&b.1))?
         .0;
+    let (h_golden, s_golden) = golden_about(ssr, h0);
+    let best = if s_golden < ssr(h0) { h_golden } else { h0 };
+    let (_, values) = solve(best)?;
+    let cost = cost::static_cost(&values, points);
+    Some((values, cost, PROFILE_VS_POINTS + 2 * GOLDEN_STEPS + 5))
+}
+
+/// Golden-section search of `f` over one grid step of the Stribeck-speed gene either side
+/// of `h0` ([`GOLDEN_STEPS`] steps); returns the better of its last two points and the
+/// value there.
+fn golden_about(f: impl Fn(f64) -> f64, h0: f64) -> (f64, f64) {
+    let step = 1.0 / (PROFILE_VS_POINTS - 1) as f64;
     let (mut a, mut b) = ((h0 - step).max(0.0), (h0 + step).min(1.0));
     let r = 0.5 * (5f64.sqrt() - 1.0);
     let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
-    let (mut fc, mut fd) = (ssr(c), ssr(d));
+    let (mut fc, mut fd) = (f(c), f(d));
     for _ in 0..GOLDEN_STEPS {
         if fc < fd {
             (b, d, fd) = (d, c, fc);
             c = b - r * (b - a);
-            fc = ssr(c);
+            fc = f(c);
         } else {
             (a, c, fc) = (c, d, fd);
             d = a + r * (b - a);
-            fd = ssr(d);
+            fd = f(d);
         }
     }
-    let best = [h0, c, d]
-        .into_iter()
-        .min_by(|x, y| ssr(*x).total_cmp(&ssr(*y)))?;
-    let (_, values) = solve(best)?;
-    let cost = cost::static_cost(&values, points);
-    Some((values, cost, PROFILE_VS_POINTS + 2 * GOLDEN_STEPS + 5))
+    if fc < fd {
+        (c, fc)
+    } else {
+        (d, fd)
+    }
 }
 
 /// The static model at one Stribeck speed: the (weighted) columns of Fc, Fs - Fc and sigma2,

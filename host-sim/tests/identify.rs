@@ -568,15 +568,7 @@ fn force_actuator_record(truth: &LugreParams<f64>, held: bool) -> Record {
 #[test]
 fn how_the_force_was_logged_is_read_from_the_record() {
     let truth = LugreParams::new(1e6, 2e3, 300.0, 100.0, 150.0, 5e-3).unwrap();
-    let points = identify::sweep_speeds()
-        .iter()
-        .flat_map(|&v| [v, -v])
-        .map(|v| SteadyPoint {
-            velocity: v,
-            force: truth.steady_state_force(v),
-            force_std_error: 0.01,
-        })
-        .collect::<Vec<_>>();
+    let points = identify::model_points(&truth, 0.01);
     for held in [true, false] {
         let rec = force_actuator_record(&truth, held);
         let mut data = identify::dynamic_from_record(&rec, 100.0, "actuator").unwrap();
