@@ -547,9 +547,25 @@ pub struct Identifiability {
     pub identifiable: bool,
 }
 
-/// Cost evaluations per dynamic gene that each force timing's refinement spends
-/// ([`ForceTiming`]).
-const TIMING_EVALS_PER_GENE: usize = 30;
+/// Cost evaluations per dynamic gene that refining another reading of the dynamic record
+/// from the optimum spends (the other force timing, [`ForceTiming`]; the staircase of a count
+/// read between its edges, [`dynamic_from_record`]).
+const READING_EVALS_PER_GENE: usize = 30;
+
+/// The dynamic stage refined on the reading `rec` from the genes `start` (a short simplex).
+fn refine_reading(
+    static_values: &[f64; 4],
+    search: &Bounds<2>,
+    rec: &DynamicRecord<'_>,
+    start: &[f64; 2],
+) -> lugre_servo::identify::simplex::Polished<2> {
+    lugre_servo::identify::simplex::nelder_mead(
+        &mut |g: &[f64; 2]| cost::dynamic_cost(static_values, &search.decode(g), rec),
+        start,
+        &[0.02; 2],
+        READING_EVALS_PER_GENE * 2,
+    )
+}
 
 /// Grid of the identifiability scan (points over the search range).
 const SCAN_POINTS: usize = 201;
@@ -1250,14 +1266,7 @@ pub fn identify(
             0,
         )
     } else if can_hold && rec.encoder_resolution == 0.0 {
-        let refine = |r: &DynamicRecord<'_>| {
-            lugre_servo::identify::simplex::nelder_mead(
-                &mut |g: &[f64; 2]| cost::dynamic_cost(&sv, &search.decode(g), r),
-                &gd,
-                &[0.02; 2],
-                TIMING_EVALS_PER_GENE * 2,
-            )
-        };
+        let refine = |r: &DynamicRecord<'_>| refine_reading(&sv, &search, r, &gd);
         let (sampled, as_held) = rayon::join(|| refine(&rec), || refine(&held));
         let evals = sampled.evaluations + as_held.evaluations;
         // the mean squared residual [N^2] less the reading's white force noise: the held
@@ -1338,12 +1347,7 @@ pub fn identify(
                 velocity: &data.velocity_staircase,
                 ..rec
             };
-            let refined = lugre_servo::identify::simplex::nelder_mead(
-                &mut |g: &[f64; 2]| cost::dynamic_cost(&sv, &search.decode(g), &stairs),
-                &gd_fit,
-                &[0.02; 2],
-                TIMING_EVALS_PER_GENE * 2,
-            );
+            let refined = refine_reading(&sv, &search, &stairs, &gd_fit);
             counted.fetch_add(refined.evaluations, std::sync::atomic::Ordering::Relaxed);
             let ([t0, t1], _) = scan_dynamic(&stairs, refined.best, refined.cost);
             let mut cover = |id: &mut Identifiability, other: Identifiability, k: usize| {
