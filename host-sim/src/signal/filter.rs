@@ -81,23 +81,29 @@ impl LowPass {
                 buf[(pad + n + i) * k + j] = 2.0 * x[n - 1] - x[n - 2 - i];
             }
         }
-        let mut s1 = vec![0.0; k];
-        let mut s2 = vec![0.0; k];
+        // The sections run fused, sample by sample: the second section's recursion on one
+        // sample overlaps the first's on the next (the same arithmetic, in the same order, as
+        // one section after the other).
+        let ns = self.sections.len();
+        let mut s1 = vec![0.0; k * ns];
+        let mut s2 = vec![0.0; k * ns];
         for backward in [false, true] {
-            for sec in &self.sections {
-                let [b0, b1, b2] = sec.b;
-                let [a1, a2] = sec.a;
-                let dc = (b0 + b1 + b2) / (1.0 + a1 + a2);
-                let first = if backward { m - 1 } else { 0 };
-                for j in 0..k {
-                    let x0 = buf[first * k + j];
-                    let y0 = x0 * dc;
-                    s2[j] = b2 * x0 - a2 * y0;
-                    s1[j] = b1 * x0 - a1 * y0 + s2[j];
-                }
-                for step in 0..m {
-                    let i = if backward { m - 1 - step } else { step };
-                    let row = &mut buf[i * k..(i + 1) * k];
+            for step in 0..m {
+                let i = if backward { m - 1 - step } else { step };
+                let row = &mut buf[i * k..(i + 1) * k];
+                for (q, sec) in self.sections.iter().enumerate() {
+                    let [b0, b1, b2] = sec.b;
+                    let [a1, a2] = sec.a;
+                    let (s1, s2) = (&mut s1[q * k..(q + 1) * k], &mut s2[q * k..(q + 1) * k]);
+                    if step == 0 {
+                        // each section starts in the steady state of its first input sample
+                        let dc = (b0 + b1 + b2) / (1.0 + a1 + a2);
+                        for j in 0..k {
+                            let (x0, y0) = (row[j], row[j] * dc);
+                            s2[j] = b2 * x0 - a2 * y0;
+                            s1[j] = b1 * x0 - a1 * y0 + s2[j];
+                        }
+                    }
                     for j in 0..k {
                         let xi = row[j];
                         let y = b0 * xi + s1[j];
