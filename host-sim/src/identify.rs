@@ -1193,7 +1193,212 @@ fn minimise<const N: usize>(
     }
 }
 
-/// Identifies both stages with one algorithm.
+/// The static stage: the algorithm's search over `(Fc, Fs - Fc, sigma2, vs)`, then, for the
+/// improved algorithm, the hand-over to the stage's exact optimum (the levels are linear at a
+/// given Stribeck speed: a GA can end with a level at its bound when the cost's valley is
+/// narrow, seen on an independent axis: Fs - Fc at 1000 N, truth 34 N). Returns the genes,
+/// the cost, the evaluations and the evaluations until within 1 % of `truth` (Table 3's order).
+fn static_stage(
+    algorithm: Algorithm,
+    data: &IdentData,
+    seed: u64,
+    truth: Option<[f64; 6]>,
+) -> ([f64; 4], f64, usize, Option<usize>) {
+    let static_cost = |g: &[f64; 4]| cost::static_cost(&STATIC_BOUNDS.decode(g), &data.points);
+    let static_good = |g: &[f64; 4]| {
+        let Some(t) = truth else { return false };
+        let v = STATIC_BOUNDS.decode(g);
+        rel(v[0], t[3]) < 1.0
+            && rel(v[1], t[4]) < 1.0
+            && rel(v[2], t[2]) < 1.0
+            && rel(v[3], t[5]) < 1.0
+    };
+    let (gs, cs, es, fs) = minimise::<4>(algorithm, seed, &static_cost, &static_good);
+    let (gs, cs, es) = match (algorithm, static_exact_optimum(&data.points)) {
+        (Algorithm::Improved, Some((values, c, tried))) if c < cs => {
+            (STATIC_BOUNDS.encode(&values), c, es + tried)
+        }
+        (Algorithm::Improved, Some((_, _, tried))) => (gs, cs, es + tried),
+        _ => (gs, cs, es),
+    };
+    (gs, cs, es, fs)
+}
+
+/// The dynamic record's two readings of its force: sampled at each instant, and held over the
+/// period before it (the mean of two samples, whose white noise is one sample's over
+/// `sqrt(2)`), when the data has it.
+fn force_readings(data: &IdentData) -> (DynamicRecord<'_>, Option<DynamicRecord<'_>>) {
+    let sampled = DynamicRecord {
+        velocity: &data.velocity,
+        force: &data.force,
+        dt: data.dt,
+        encoder_resolution: data.encoder_resolution_m,
+        force_noise: data.force_noise_n,
+    };
+    let held = (data.force_if_held.len() == data.force.len()).then(|| DynamicRecord {
+        force: &data.force_if_held,
+        force_noise: sampled.force_noise * std::f64::consts::FRAC_1_SQRT_2,
+        ..sampled
+    });
+    (sampled, held)
+}
+
+/// The dynamic stage's optimum on the reading of the force the data's timing says, or, when
+/// the data does not say, on the better of the two: both refined from the optimum `genes`
+/// (cost `cost`) and the better fit kept, on a staircase reading only (the count edges'
+/// chi-square has no term for the held reading's halved noise). Returns the timing, its
+/// reading, the genes, the cost and the evaluations spent.
+#[allow(clippy::too_many_arguments)]
+fn read_force_timing<'a>(
+    data: &IdentData,
+    static_values: &[f64; 4],
+    search: &Bounds<2>,
+    sampled: DynamicRecord<'a>,
+    held: Option<DynamicRecord<'a>>,
+    genes: [f64; 2],
+    cost: f64,
+) -> (ForceTiming, DynamicRecord<'a>, [f64; 2], f64, usize) {
+    let Some(held) = held else {
+        return (ForceTiming::Sampled, sampled, genes, cost, 0);
+    };
+    if let Some(told) = data.force_timing {
+        // the stage already ran on the told reading
+        let rec = if told == ForceTiming::Held {
+            held
+        } else {
+            sampled
+        };
+        return (told, rec, genes, cost, 0);
+    }
+    if sampled.encoder_resolution != 0.0 {
+        return (ForceTiming::Sampled, sampled, genes, cost, 0);
+    }
+    let refine = |r: &DynamicRecord<'_>| refine_reading(static_values, search, r, &genes);
+    let (as_sampled, as_held) = rayon::join(|| refine(&sampled), || refine(&held));
+    let evals = as_sampled.evaluations + as_held.evaluations;
+    // the mean squared residual [N^2] less the reading's white force noise: the held reading
+    // averages two samples and halves the noise's variance, which would otherwise decide the
+    // comparison by itself
+    let excess = |c: f64, r: &DynamicRecord<'_>, noise_share: f64| {
+        let mean_square = r.force.iter().map(|f| f * f).sum::<f64>() / r.force.len() as f64;
+        c * mean_square - noise_share * data.force_noise_n * data.force_noise_n
+    };
+    let c_sampled = as_sampled.cost.min(cost);
+    if excess(as_held.cost, &held, 0.5) < excess(c_sampled, &sampled, 1.0) {
+        (ForceTiming::Held, held, as_held.best, as_held.cost, evals)
+    } else if as_sampled.cost < cost {
+        (
+            ForceTiming::Sampled,
+            sampled,
+            as_sampled.best,
+            c_sampled,
+            evals,
+        )
+    } else {
+        (ForceTiming::Sampled, sampled, genes, cost, evals)
+    }
+}
+
+/// What the data says about each parameter (Table 3's order): the static stage's profiles,
+/// and the dynamic stage's on the reading `rec`, from its optimum `gd` (cost `cd`). A fine
+/// count is read twice: through its edges' interpolation (`rec`) and as the staircase, whose
+/// profile starts from the refinement of the stage's optimum on that reading
+/// (`gd_searched`, before any value went to its posterior mean); the intervals cover both (what the count leaves open about the motion
+/// between its edges is a bias no single reading's likelihood sees), and a parameter either
+/// reading leaves open is not identifiable. Values the data does not bound go to their
+/// posterior mean in `gs` and `gd`. Returns the verdicts and the evaluations spent.
+#[allow(clippy::too_many_arguments)]
+fn identifiability(
+    data: &IdentData,
+    search: &Bounds<2>,
+    rec: &DynamicRecord<'_>,
+    gs: &mut [f64; 4],
+    gd: &mut [f64; 2],
+    gd_searched: [f64; 2],
+    cd: f64,
+) -> ([Identifiability; 6], usize) {
+    // the dynamic profiles hold the static stage's optimum, as its search did
+    let sv = STATIC_BOUNDS.decode(gs);
+    let [fc, dfs, s2, vs] = scan_stage(
+        &|k, grid| static_likelihood(&data.points, k, grid),
+        &STATIC_BOUNDS,
+        gs,
+    );
+    let counted = std::sync::atomic::AtomicUsize::new(0);
+    // the dynamic stage's profiles on one reading of the record, from its optimum
+    let scan_dynamic = |rec: &DynamicRecord<'_>, mut genes: [f64; 2], c_min: f64| {
+        let dv = search.decode(&genes);
+        let quantised = (rec.encoder_resolution > 0.0)
+            .then(|| cost::quantised_fit(&sv, &dv, rec))
+            .flatten();
+        let n_dyn = match quantised {
+            // a chi-square of known variances: its likelihood is exp(-chi2 / 2), unless the
+            // fit is worse than the noise explains (chi2 above its terms), when the variances
+            // are scaled up to match
+            Some(fit) => (fit.terms as f64).min(fit.chi_square),
+            None => {
+                let residual: Vec<f64> = cost::dynamic_residuals(&sv, &dv, rec)
+                    .map(Iterator::collect)
+                    .unwrap_or_default();
+                residual.len() as f64 / integrated_autocorrelation_time(&residual)
+            }
+        };
+        let optimum = genes;
+        let counted_cost = |g: &[f64; 2]| {
+            counted.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            cost::dynamic_cost(&sv, &search.decode(g), rec)
+        };
+        let ids = scan_stage(
+            &|k, grid| {
+                profile_by_search(&counted_cost, &optimum, k, grid)
+                    .iter()
+                    .map(|c| (n_dyn * (c - c_min) / (2.0 * c_min)).max(0.0))
+                    .collect()
+            },
+            search,
+            &mut genes,
+        );
+        (ids, genes)
+    };
+    let ([mut s0, mut s1], genes) = scan_dynamic(rec, *gd, cd);
+    *gd = genes;
+    if data.velocity_staircase.len() == data.velocity.len() {
+        let stairs = DynamicRecord {
+            velocity: &data.velocity_staircase,
+            ..*rec
+        };
+        let refined = refine_reading(&sv, search, &stairs, &gd_searched);
+        counted.fetch_add(refined.evaluations, std::sync::atomic::Ordering::Relaxed);
+        let ([t0, t1], _) = scan_dynamic(&stairs, refined.best, refined.cost);
+        let mut cover = |id: &mut Identifiability, other: Identifiability, k: usize| {
+            id.interval95 = [
+                id.interval95[0].min(other.interval95[0]),
+                id.interval95[1].max(other.interval95[1]),
+            ];
+            if id.identifiable && !other.identifiable {
+                id.identifiable = false;
+                gd[k] = search.encode(&[id.posterior_mean; 2])[k];
+            }
+        };
+        cover(&mut s0, t0, 0);
+        cover(&mut s1, t1, 1);
+    }
+    // (the static profile solves least squares instead of evaluating the cost)
+    ([s0, s1, s2, fc, dfs, vs], counted.into_inner())
+}
+
+/// The parameters whose genes end within 0.1 % of their search range's edge.
+fn at_bound(gs: &[f64; 4], gd: &[f64; 2]) -> Vec<&'static str> {
+    let names_s = ["Fc", "Fs - Fc", "sigma2", "vs"];
+    let names_d = ["sigma0", "sigma1"];
+    let near_edge = |g: &f64| *g < 1e-3 || *g > 1.0 - 1e-3;
+    let statics = gs.iter().zip(names_s).filter(|(g, _)| near_edge(g));
+    let dynamics = gd.iter().zip(names_d).filter(|(g, _)| near_edge(g));
+    statics.chain(dynamics).map(|(_, n)| n).collect()
+}
+
+/// Identifies both stages with one algorithm: the static stage, the dynamic stage on the
+/// force's reading, then what the data bounds (measurement -> stages -> intervals).
 pub fn identify(
     algorithm: Algorithm,
     data: &IdentData,
@@ -1202,45 +1407,14 @@ pub fn identify(
 ) -> RunResult {
     let wall = std::time::Instant::now();
     let t = truth.map(table3_values);
-    let static_cost = |g: &[f64; 4]| cost::static_cost(&STATIC_BOUNDS.decode(g), &data.points);
-    let static_good = |g: &[f64; 4]| {
-        let Some(t) = t else { return false };
-        let v = STATIC_BOUNDS.decode(g);
-        rel(v[0], t[3]) < 1.0
-            && rel(v[1], t[4]) < 1.0
-            && rel(v[2], t[2]) < 1.0
-            && rel(v[3], t[5]) < 1.0
-    };
-    let (gs, cs, es, fs) = minimise::<4>(algorithm, seed, &static_cost, &static_good);
-    // the improved algorithm hands the static stage over to its exact optimum (the levels
-    // are linear at a given Stribeck speed): a GA can end with a level at its bound when the
-    // cost's valley is narrow (seen on an independent axis: Fs - Fc at 1000 N, truth 34 N)
-    let (gs, cs, es) = match (algorithm, static_exact_optimum(&data.points)) {
-        (Algorithm::Improved, Some((values, c, tried))) if c < cs => {
-            (STATIC_BOUNDS.encode(&values), c, es + tried)
-        }
-        (Algorithm::Improved, Some((_, _, tried))) => (gs, cs, es + tried),
-        _ => (gs, cs, es),
-    };
+    let (gs, cs, es, fs) = static_stage(algorithm, data, seed, t);
     let sv = STATIC_BOUNDS.decode(&gs);
-    let rec = DynamicRecord {
-        velocity: &data.velocity,
-        force: &data.force,
-        dt: data.dt,
-        encoder_resolution: data.encoder_resolution_m,
-        force_noise: data.force_noise_n,
-    };
     let search = data.dynamic_bounds;
-    // the mean of two samples: its white noise is that of one over sqrt(2)
-    let held = DynamicRecord {
-        force: &data.force_if_held,
-        force_noise: rec.force_noise * std::f64::consts::FRAC_1_SQRT_2,
-        ..rec
-    };
-    let can_hold = data.force_if_held.len() == data.force.len();
-    let rec = match data.force_timing {
-        Some(ForceTiming::Held) if can_hold => held,
-        _ => rec,
+    let (sampled, held) = force_readings(data);
+    // a told timing is searched on its reading from the start
+    let rec = match (data.force_timing, held) {
+        (Some(ForceTiming::Held), Some(h)) => h,
+        _ => sampled,
     };
     let dynamic_cost = |g: &[f64; 2]| cost::dynamic_cost(&sv, &search.decode(g), &rec);
     let dynamic_good = |g: &[f64; 2]| {
@@ -1254,121 +1428,20 @@ pub fn identify(
         &dynamic_cost,
         &dynamic_good,
     );
-    // the force's timing, unless told: both readings refined from the optimum, the better
-    // fit kept (a staircase reading only: the count edges' chi-square has no term for the
-    // held reading's halved noise)
-    let (force_timing, rec, gd, cd, et) = if let Some(told) = data.force_timing {
-        (
-            if can_hold { told } else { ForceTiming::Sampled },
-            rec,
-            gd,
-            cd,
-            0,
-        )
-    } else if can_hold && rec.encoder_resolution == 0.0 {
-        let refine = |r: &DynamicRecord<'_>| refine_reading(&sv, &search, r, &gd);
-        let (sampled, as_held) = rayon::join(|| refine(&rec), || refine(&held));
-        let evals = sampled.evaluations + as_held.evaluations;
-        // the mean squared residual [N^2] less the reading's white force noise: the held
-        // reading averages two samples and halves the noise's variance, which would
-        // otherwise decide the comparison by itself
-        let excess = |c: f64, r: &DynamicRecord<'_>, noise_share: f64| {
-            let mean_square = r.force.iter().map(|f| f * f).sum::<f64>() / r.force.len() as f64;
-            c * mean_square - noise_share * data.force_noise_n * data.force_noise_n
-        };
-        let (c_sampled, c_held) = (sampled.cost.min(cd), as_held.cost);
-        if excess(c_held, &held, 0.5) < excess(c_sampled, &rec, 1.0) {
-            (ForceTiming::Held, held, as_held.best, as_held.cost, evals)
-        } else if sampled.cost < cd {
-            (ForceTiming::Sampled, rec, sampled.best, c_sampled, evals)
-        } else {
-            (ForceTiming::Sampled, rec, gd, cd, evals)
-        }
-    } else {
-        (ForceTiming::Sampled, rec, gd, cd, 0)
-    };
-    let gd_fit = gd;
-    // what the data says about each parameter; values the data does not bound become the
-    // posterior mean
+    let (force_timing, rec, gd_read, cd, et) =
+        read_force_timing(data, &sv, &search, sampled, held, gd, cd);
+    let (mut gs, mut gd_final) = (gs, gd_read);
     let mut ident: [Option<Identifiability>; 6] = [None; 6];
     let mut scan_evals = 0;
-    let (mut gs, mut gd) = (gs, gd);
     // noise-free data (a cost of exactly 0 or none at all) has a likelihood spike at the optimum
     if cs > 0.0 && cd > 0.0 && cs.is_finite() && cd.is_finite() {
-        let [fc, dfs, s2, vs] = scan_stage(
-            &|k, grid| static_likelihood(&data.points, k, grid),
-            &STATIC_BOUNDS,
-            &mut gs,
-        );
-        let counted = std::sync::atomic::AtomicUsize::new(0);
-        // the dynamic stage's profiles on one reading of the record, from its optimum
-        let scan_dynamic = |rec: &DynamicRecord<'_>, mut genes: [f64; 2], c_min: f64| {
-            let dv = search.decode(&genes);
-            let quantised = (rec.encoder_resolution > 0.0)
-                .then(|| cost::quantised_fit(&sv, &dv, rec))
-                .flatten();
-            let n_dyn = match quantised {
-                // a chi-square of known variances: its likelihood is exp(-chi2 / 2), unless
-                // the fit is worse than the noise explains (chi2 above its terms), when the
-                // variances are scaled up to match
-                Some(fit) => (fit.terms as f64).min(fit.chi_square),
-                None => {
-                    let residual: Vec<f64> = cost::dynamic_residuals(&sv, &dv, rec)
-                        .map(Iterator::collect)
-                        .unwrap_or_default();
-                    residual.len() as f64 / integrated_autocorrelation_time(&residual)
-                }
-            };
-            let optimum = genes;
-            let counted_cost = |g: &[f64; 2]| {
-                counted.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                cost::dynamic_cost(&sv, &search.decode(g), rec)
-            };
-            let ids = scan_stage(
-                &|k, grid| {
-                    profile_by_search(&counted_cost, &optimum, k, grid)
-                        .iter()
-                        .map(|c| (n_dyn * (c - c_min) / (2.0 * c_min)).max(0.0))
-                        .collect()
-                },
-                &search,
-                &mut genes,
-            );
-            (ids, genes)
-        };
-        let ([mut s0, mut s1], genes) = scan_dynamic(&rec, gd, cd);
-        gd = genes;
-        // a fine count driven through its edges' interpolation: the staircase is the other
-        // reading of the same counts, and the intervals cover both (what the count leaves
-        // open about the motion between its edges is a bias no single reading's likelihood
-        // sees)
-        if data.velocity_staircase.len() == data.velocity.len() {
-            let stairs = DynamicRecord {
-                velocity: &data.velocity_staircase,
-                ..rec
-            };
-            let refined = refine_reading(&sv, &search, &stairs, &gd_fit);
-            counted.fetch_add(refined.evaluations, std::sync::atomic::Ordering::Relaxed);
-            let ([t0, t1], _) = scan_dynamic(&stairs, refined.best, refined.cost);
-            let mut cover = |id: &mut Identifiability, other: Identifiability, k: usize| {
-                id.interval95 = [
-                    id.interval95[0].min(other.interval95[0]),
-                    id.interval95[1].max(other.interval95[1]),
-                ];
-                if id.identifiable && !other.identifiable {
-                    id.identifiable = false;
-                    gd[k] = search.encode(&[id.posterior_mean; 2])[k];
-                }
-            };
-            cover(&mut s0, t0, 0);
-            cover(&mut s1, t1, 1);
-        }
-        ident = [s0, s1, s2, fc, dfs, vs].map(Some);
-        // the static profile solves least squares instead of evaluating the cost
-        scan_evals = counted.into_inner();
+        let (ids, evals) =
+            identifiability(data, &search, &rec, &mut gs, &mut gd_final, gd_read, cd);
+        ident = ids.map(Some);
+        scan_evals = evals;
     }
     let sv = STATIC_BOUNDS.decode(&gs);
-    let dv = search.decode(&gd);
+    let dv = search.decode(&gd_final);
     let values = [dv[0], dv[1], sv[2], sv[0], sv[1], sv[3]];
     let errors_pct = t.map(|t| ErrorsPct {
         sigma0: rel(values[0], t[0]),
@@ -1378,19 +1451,6 @@ pub fn identify(
         fs_minus_fc: rel(values[4], t[4]),
         vs: rel(values[5], t[5]),
     });
-    let names_s = ["Fc", "Fs - Fc", "sigma2", "vs"];
-    let names_d = ["sigma0", "sigma1"];
-    let mut at_bound = Vec::new();
-    for (k, g) in gs.iter().enumerate() {
-        if *g < 1e-3 || *g > 1.0 - 1e-3 {
-            at_bound.push(names_s[k]);
-        }
-    }
-    for (k, g) in gd.iter().enumerate() {
-        if *g < 1e-3 || *g > 1.0 - 1e-3 {
-            at_bound.push(names_d[k]);
-        }
-    }
     RunResult {
         algorithm,
         seed,
@@ -1404,7 +1464,7 @@ pub fn identify(
         wall_s: wall.elapsed().as_secs_f64(),
         stage_evaluations_to_1pct: [fs, fd],
         costs: (cs, cd),
-        at_bound,
+        at_bound: at_bound(&gs, &gd_final),
         identifiability: ident,
         force_timing,
     }
