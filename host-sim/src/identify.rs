@@ -842,16 +842,16 @@ fn static_exact_optimum(points: &[cost::SteadyPoint]) -> Option<([f64; 4], f64, 
     };
     let ssr = |h: f64| solve(h).map_or(f64::INFINITY, |(s, _)| s);
     let step = 1.0 / (PROFILE_VS_POINTS - 1) as f64;
-    let h0 = (0..PROFILE_VS_POINTS)
+    let (h0, s0) = (0..PROFILE_VS_POINTS)
         .into_par_iter()
         .map(|i| (i as f64 * step, ssr(i as f64 * step)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))?
-        .0;
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
     let (h_golden, s_golden) = golden_about(ssr, h0);
-    let best = if s_golden < ssr(h0) { h_golden } else { h0 };
+    let best = if s_golden < s0 { h_golden } else { h0 };
     let (_, values) = solve(best)?;
     let cost = cost::static_cost(&values, points);
-    Some((values, cost, PROFILE_VS_POINTS + 2 * GOLDEN_STEPS + 5))
+    // the grid, the golden section (two points, then one per step) and the final solve
+    Some((values, cost, PROFILE_VS_POINTS + GOLDEN_STEPS + 3))
 }
 
 /// Golden-section search of `f` over one grid step of the Stribeck-speed gene either side
@@ -1243,12 +1243,24 @@ fn force_readings(data: &IdentData) -> (DynamicRecord<'_>, Option<DynamicRecord<
     (sampled, held)
 }
 
+/// The timing told for the force and the reading it names: the sampled one when the data
+/// has no held reading.
+fn told_reading<'a>(
+    told: ForceTiming,
+    sampled: DynamicRecord<'a>,
+    held: Option<DynamicRecord<'a>>,
+) -> (ForceTiming, DynamicRecord<'a>) {
+    match (told, held) {
+        (ForceTiming::Held, Some(held)) => (ForceTiming::Held, held),
+        _ => (ForceTiming::Sampled, sampled),
+    }
+}
+
 /// The dynamic stage's optimum on the reading of the force the data's timing says, or, when
 /// the data does not say, on the better of the two: both refined from the optimum `genes`
 /// (cost `cost`) and the better fit kept, on a staircase reading only (the count edges'
 /// chi-square has no term for the held reading's halved noise). Returns the timing, its
 /// reading, the genes, the cost and the evaluations spent.
-#[allow(clippy::too_many_arguments)]
 fn read_force_timing<'a>(
     data: &IdentData,
     static_values: &[f64; 4],
@@ -1258,18 +1270,14 @@ fn read_force_timing<'a>(
     genes: [f64; 2],
     cost: f64,
 ) -> (ForceTiming, DynamicRecord<'a>, [f64; 2], f64, usize) {
+    if let Some(told) = data.force_timing {
+        // the stage already ran on the told reading
+        let (timing, rec) = told_reading(told, sampled, held);
+        return (timing, rec, genes, cost, 0);
+    }
     let Some(held) = held else {
         return (ForceTiming::Sampled, sampled, genes, cost, 0);
     };
-    if let Some(told) = data.force_timing {
-        // the stage already ran on the told reading
-        let rec = if told == ForceTiming::Held {
-            held
-        } else {
-            sampled
-        };
-        return (told, rec, genes, cost, 0);
-    }
     if sampled.encoder_resolution != 0.0 {
         return (ForceTiming::Sampled, sampled, genes, cost, 0);
     }
@@ -1302,23 +1310,22 @@ fn read_force_timing<'a>(
 /// What the data says about each parameter (Table 3's order): the static stage's profiles,
 /// and the dynamic stage's on the reading `rec`, from its optimum `gd` (cost `cd`). A fine
 /// count is read twice: through its edges' interpolation (`rec`) and as the staircase, whose
-/// profile starts from the refinement of the stage's optimum on that reading
-/// (`gd_searched`, before any value went to its posterior mean); the intervals cover both (what the count leaves open about the motion
-/// between its edges is a bias no single reading's likelihood sees), and a parameter either
-/// reading leaves open is not identifiable. Values the data does not bound go to their
-/// posterior mean in `gs` and `gd`. Returns the verdicts and the evaluations spent.
-#[allow(clippy::too_many_arguments)]
+/// profile starts from the stage's optimum refined on that reading; the intervals cover both
+/// (what the count leaves open about the motion between its edges is a bias no single
+/// reading's likelihood sees), and a parameter either reading leaves open is not
+/// identifiable. Values the data does not bound go to their posterior mean in `gs` and `gd`.
+/// Returns the verdicts and the evaluations spent.
 fn identifiability(
     data: &IdentData,
     search: &Bounds<2>,
     rec: &DynamicRecord<'_>,
     gs: &mut [f64; 4],
     gd: &mut [f64; 2],
-    gd_searched: [f64; 2],
     cd: f64,
 ) -> ([Identifiability; 6], usize) {
-    // the dynamic profiles hold the static stage's optimum, as its search did
-    let sv = STATIC_BOUNDS.decode(gs);
+    // the optima as the stages found them, before a value goes to its posterior mean: the
+    // dynamic profiles hold the static one, as the dynamic search did
+    let (sv, searched) = (STATIC_BOUNDS.decode(gs), *gd);
     let [fc, dfs, s2, vs] = scan_stage(
         &|k, grid| static_likelihood(&data.points, k, grid),
         &STATIC_BOUNDS,
@@ -1367,7 +1374,7 @@ fn identifiability(
             velocity: &data.velocity_staircase,
             ..*rec
         };
-        let refined = refine_reading(&sv, search, &stairs, &gd_searched);
+        let refined = refine_reading(&sv, search, &stairs, &searched);
         counted.fetch_add(refined.evaluations, std::sync::atomic::Ordering::Relaxed);
         let ([t0, t1], _) = scan_dynamic(&stairs, refined.best, refined.cost);
         let mut cover = |id: &mut Identifiability, other: Identifiability, k: usize| {
@@ -1412,10 +1419,9 @@ pub fn identify(
     let search = data.dynamic_bounds;
     let (sampled, held) = force_readings(data);
     // a told timing is searched on its reading from the start
-    let rec = match (data.force_timing, held) {
-        (Some(ForceTiming::Held), Some(h)) => h,
-        _ => sampled,
-    };
+    let rec = data
+        .force_timing
+        .map_or(sampled, |told| told_reading(told, sampled, held).1);
     let dynamic_cost = |g: &[f64; 2]| cost::dynamic_cost(&sv, &search.decode(g), &rec);
     let dynamic_good = |g: &[f64; 2]| {
         let Some(t) = t else { return false };
@@ -1428,20 +1434,18 @@ pub fn identify(
         &dynamic_cost,
         &dynamic_good,
     );
-    let (force_timing, rec, gd_read, cd, et) =
+    let (force_timing, rec, mut gd, cd, et) =
         read_force_timing(data, &sv, &search, sampled, held, gd, cd);
-    let (mut gs, mut gd_final) = (gs, gd_read);
-    let mut ident: [Option<Identifiability>; 6] = [None; 6];
-    let mut scan_evals = 0;
+    let mut gs = gs;
     // noise-free data (a cost of exactly 0 or none at all) has a likelihood spike at the optimum
-    if cs > 0.0 && cd > 0.0 && cs.is_finite() && cd.is_finite() {
-        let (ids, evals) =
-            identifiability(data, &search, &rec, &mut gs, &mut gd_final, gd_read, cd);
-        ident = ids.map(Some);
-        scan_evals = evals;
-    }
+    let (ident, scan_evals) = if cs > 0.0 && cd > 0.0 && cs.is_finite() && cd.is_finite() {
+        let (ids, evals) = identifiability(data, &search, &rec, &mut gs, &mut gd, cd);
+        (ids.map(Some), evals)
+    } else {
+        ([None; 6], 0)
+    };
     let sv = STATIC_BOUNDS.decode(&gs);
-    let dv = search.decode(&gd_final);
+    let dv = search.decode(&gd);
     let values = [dv[0], dv[1], sv[2], sv[0], sv[1], sv[3]];
     let errors_pct = t.map(|t| ErrorsPct {
         sigma0: rel(values[0], t[0]),
@@ -1464,7 +1468,7 @@ pub fn identify(
         wall_s: wall.elapsed().as_secs_f64(),
         stage_evaluations_to_1pct: [fs, fd],
         costs: (cs, cd),
-        at_bound: at_bound(&gs, &gd_final),
+        at_bound: at_bound(&gs, &gd),
         identifiability: ident,
         force_timing,
     }

@@ -12,21 +12,25 @@ struct Biquad {
 }
 
 impl Biquad {
-    fn run(&self, x: &mut [f64]) {
-        let Some(&x0) = x.first() else { return };
+    /// The state `[s1, s2]` of a biquad that has seen the constant input `x0` forever (its
+    /// output `x0` times the DC gain): a pass started there does not ring.
+    fn steady_state(&self, x0: f64) -> [f64; 2] {
         let [b0, b1, b2] = self.b;
         let [a1, a2] = self.a;
-        // steady state for a constant input x0
-        let y0 = x0 * (b0 + b1 + b2) / (1.0 + a1 + a2);
-        let mut s2 = b2 * x0 - a2 * y0;
-        let mut s1 = b1 * x0 - a1 * y0 + s2;
-        for v in x.iter_mut() {
-            let xi = *v;
-            let y = b0 * xi + s1;
-            s1 = b1 * xi - a1 * y + s2;
-            s2 = b2 * xi - a2 * y;
-            *v = y;
-        }
+        let y0 = x0 * ((b0 + b1 + b2) / (1.0 + a1 + a2));
+        let s2 = b2 * x0 - a2 * y0;
+        [b1 * x0 - a1 * y0 + s2, s2]
+    }
+
+    /// One sample through the biquad: returns the output and advances the state.
+    #[inline]
+    fn step(&self, state: &mut [f64; 2], x: f64) -> f64 {
+        let [b0, b1, b2] = self.b;
+        let [a1, a2] = self.a;
+        let [s1, s2] = *state;
+        let y = b0 * x + s1;
+        *state = [b1 * x - a1 * y + s2, b2 * x - a2 * y];
+        y
     }
 }
 
@@ -63,12 +67,16 @@ impl LowPass {
     pub fn filtfilt_many(&self, xs: &[&[f64]]) -> Vec<Vec<f64>> {
         let k = xs.len();
         let n = xs.first().map_or(0, |x| x.len());
-        if n < 3 || xs.iter().any(|x| x.len() != n) {
+        if xs.iter().any(|x| x.len() != n) {
             return xs.iter().map(|x| self.filtfilt(x)).collect();
+        }
+        if n < 3 {
+            return xs.iter().map(|x| x.to_vec()).collect();
         }
         let pad = (n - 1).min(300);
         let m = n + 2 * pad;
-        // interleaved layout: sample-major, k signals per sample
+        // interleaved layout: sample-major, k signals per sample; each end extended by odd
+        // reflection
         let mut buf = vec![0.0; m * k];
         for (j, x) in xs.iter().enumerate() {
             for i in 0..pad {
@@ -83,33 +91,21 @@ impl LowPass {
         }
         // The sections run fused, sample by sample: the second section's recursion on one
         // sample overlaps the first's on the next (the same arithmetic, in the same order, as
-        // one section after the other).
-        let ns = self.sections.len();
-        let mut s1 = vec![0.0; k * ns];
-        let mut s2 = vec![0.0; k * ns];
+        // one section after the other). State of section q, signal j: `state[q * k + j]`.
+        let mut state = vec![[0.0; 2]; k * self.sections.len()];
         for backward in [false, true] {
             for step in 0..m {
                 let i = if backward { m - 1 - step } else { step };
                 let row = &mut buf[i * k..(i + 1) * k];
-                for (q, sec) in self.sections.iter().enumerate() {
-                    let [b0, b1, b2] = sec.b;
-                    let [a1, a2] = sec.a;
-                    let (s1, s2) = (&mut s1[q * k..(q + 1) * k], &mut s2[q * k..(q + 1) * k]);
+                for (sec, state) in self.sections.iter().zip(state.chunks_exact_mut(k)) {
                     if step == 0 {
                         // each section starts in the steady state of its first input sample
-                        let dc = (b0 + b1 + b2) / (1.0 + a1 + a2);
-                        for j in 0..k {
-                            let (x0, y0) = (row[j], row[j] * dc);
-                            s2[j] = b2 * x0 - a2 * y0;
-                            s1[j] = b1 * x0 - a1 * y0 + s2[j];
+                        for (s, x) in state.iter_mut().zip(row.iter()) {
+                            *s = sec.steady_state(*x);
                         }
                     }
-                    for j in 0..k {
-                        let xi = row[j];
-                        let y = b0 * xi + s1[j];
-                        s1[j] = b1 * xi - a1 * y + s2[j];
-                        s2[j] = b2 * xi - a2 * y;
-                        row[j] = y;
+                    for (s, x) in state.iter_mut().zip(row.iter_mut()) {
+                        *x = sec.step(s, *x);
                     }
                 }
             }
@@ -121,24 +117,7 @@ impl LowPass {
 
     /// Zero-phase filtering of `x` (returns a new vector of the same length).
     pub fn filtfilt(&self, x: &[f64]) -> Vec<f64> {
-        let n = x.len();
-        if n < 3 {
-            return x.to_vec();
-        }
-        let pad = (n - 1).min(300);
-        let mut ext = Vec::with_capacity(n + 2 * pad);
-        ext.extend((1..=pad).rev().map(|i| 2.0 * x[0] - x[i]));
-        ext.extend_from_slice(x);
-        ext.extend((1..=pad).map(|i| 2.0 * x[n - 1] - x[n - 1 - i]));
-        for s in &self.sections {
-            s.run(&mut ext);
-        }
-        ext.reverse();
-        for s in &self.sections {
-            s.run(&mut ext);
-        }
-        ext.reverse();
-        ext[pad..pad + n].to_vec()
+        self.filtfilt_many(&[x]).pop().unwrap_or_default()
     }
 }
 
