@@ -82,6 +82,7 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// The levels of both directions, forward (v >= 0) then backward, at conditions `c` and
     /// dwell time: the conditions' factors (a power, cosines, exponentials) are evaluated
     /// once for both.
+    #[inline]
     pub fn levels_by_direction(&self, c: &Conditions<T>, dwell_time: T) -> (Levels<T>, Levels<T>) {
         let f = self.condition_factors(c, dwell_time);
         let forward = self.levels_in(true, &f);
@@ -94,6 +95,7 @@ impl<T: ModelFloat> FrictionModel<T> {
     }
 
     /// What the conditions and the dwell time do to the levels, whatever the direction.
+    #[inline]
     fn condition_factors(&self, c: &Conditions<T>, dwell_time: T) -> ConditionFactors<T> {
         let e = &self.effects;
         ConditionFactors {
@@ -123,6 +125,7 @@ impl<T: ModelFloat> FrictionModel<T> {
     }
 
     /// The levels in one direction (`forward`: v >= 0) under the conditions' factors.
+    #[inline]
     fn levels_in(&self, forward: bool, f: &ConditionFactors<T>) -> Levels<T> {
         let p = &self.params;
         let mut coulomb = p.coulomb_force();
@@ -222,6 +225,20 @@ impl<T: ModelFloat> FrictionModel<T> {
         self.step_driven(s, mean_velocity, mean_velocity, velocity, c, dt)
     }
 
+    /// As [`Self::step_split`], also returning the Stribeck level `g(v)` \[N\] the step used
+    /// (at the mean velocity, after the dwell clock moved): an inverse model reads the
+    /// bristle's loading `sigma0 z / g` from it without evaluating the levels a second time.
+    pub fn step_split_with_curve(
+        &self,
+        s: &mut FrictionState<T>,
+        mean_velocity: T,
+        velocity: T,
+        c: &Conditions<T>,
+        dt: T,
+    ) -> (T, T) {
+        self.step_driven_with_curve(s, mean_velocity, mean_velocity, velocity, c, dt)
+    }
+
     /// As [`Self::step_split`], with the bristle equation driven by `drive`
     /// (`dz/dt = drive - sigma0 |v| z / g(v)`): the mean velocity itself in the model, the mean
     /// velocity plus an error correction in an observer. The state is projected onto
@@ -237,6 +254,21 @@ impl<T: ModelFloat> FrictionModel<T> {
         c: &Conditions<T>,
         dt: T,
     ) -> T {
+        self.step_driven_with_curve(s, drive, mean_velocity, velocity, c, dt)
+            .0
+    }
+
+    /// [`Self::step_driven`] and the Stribeck level `g(v)` \[N\] of its bristle step.
+    #[inline]
+    fn step_driven_with_curve(
+        &self,
+        s: &mut FrictionState<T>,
+        drive: T,
+        mean_velocity: T,
+        velocity: T,
+        c: &Conditions<T>,
+        dt: T,
+    ) -> (T, T) {
         if let Some(d) = self.effects.dwell_stiction {
             // Timer runs while stuck and is forgotten over the renewal distance once the axis
             // slides (a distance that is zero, negative or not a number forgets at once).
@@ -273,10 +305,11 @@ impl<T: ModelFloat> FrictionModel<T> {
         s.z = z;
         s.deflection_rate = b.deflection_rate;
         let l = at(velocity);
-        sigma0 * z
+        let force = sigma0 * z
             + self.params.bristle_damping() * b.deflection_rate
             + self.viscous_force(velocity, &l)
-            + self.offset_force()
+            + self.offset_force();
+        (force, g)
     }
 }
 

@@ -255,8 +255,12 @@ fn refit_iterations(
     // Levenberg-Marquardt damping mu (relative to the diagonal of J'J): raised tenfold when
     // an iterate scores worse, lowered after a success.
     let mut mu = 1e-6;
+    // the linearisation about the current model, rebuilt only when the model moves
+    let mut lin: Option<Linearisation> = None;
     for _ in 0..iterations {
-        let (next, est) = linear_step(&model, &sim, p, fixed_mass, held_viscous, n_eff, mu);
+        let l =
+            lin.get_or_insert_with(|| linearise(&model, &sim, p, fixed_mass, held_viscous, n_eff));
+        let (next, est) = linear_step(l, p, mu);
         let (next_rss, next_sim, next_pred) = score(&next);
         if next_rss <= rss {
             let gain = (rss - next_rss) / rss.max(1e-300);
@@ -264,6 +268,7 @@ fn refit_iterations(
             rss = next_rss;
             sim = next_sim;
             pred = next_pred;
+            lin = None;
             estimates = est;
             mu = (mu / 10.0).max(1e-9);
             if gain < 1e-5 {
@@ -409,17 +414,121 @@ fn theta_of(m: &AxisModel, param: Param) -> f64 {
     }
 }
 
+/// The Gauss-Newton linearisation of a model on a record: what a Levenberg-Marquardt step
+/// needs and what does not depend on its damping. A rejected step retries from here with a
+/// larger damping instead of re-simulating and re-filtering the same columns.
+struct Linearisation {
+    /// The model linearised about.
+    model: AxisModel,
+    /// The regression's parameters, in column order.
+    params: Vec<Param>,
+    /// Their current values (regression coordinates, see [`theta_of`]).
+    theta0: Vec<f64>,
+    /// Column scales (rms of the filtered columns).
+    scale: Vec<f64>,
+    /// Scaled normal matrix `J' W J`.
+    xtx: DMatrix<f64>,
+    /// Scaled right-hand side `J' W y`.
+    xty: DVector<f64>,
+    /// Pseudo-inverse of `xtx`: the standard errors come from the undamped problem.
+    cov: DMatrix<f64>,
+    /// The filtered columns, kept for the residual of each solution.
+    cols_f: Vec<Vec<f64>>,
+    /// The filtered target `force - (model0 - J theta0)` \[N\].
+    target: Vec<f64>,
+    /// The mass when the user fixed it \[kg\] (then not a column).
+    fixed_mass: Option<f64>,
+    /// Effective number of independent samples (inflates the standard errors).
+    n_eff: f64,
+}
+
+/// One Levenberg-Marquardt step with damping `mu` from a linearisation.
+fn linear_step(lin: &Linearisation, p: &Prepared, mu: f64) -> (AxisModel, Vec<Estimate>) {
+    let Linearisation {
+        model: m,
+        params,
+        theta0,
+        scale,
+        xtx,
+        xty,
+        cov,
+        cols_f,
+        target,
+        fixed_mass,
+        n_eff,
+    } = lin;
+    let (fixed_mass, n_eff) = (*fixed_mass, *n_eff);
+    let n = p.len();
+    let k = params.len();
+    // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space),
+    // solved within the physical box
+    let mut lm = xtx.clone();
+    let mut rhs = xty.clone();
+    for j in 0..k {
+        let d = mu * xtx[(j, j)];
+        lm[(j, j)] += d;
+        rhs[j] += d * theta0[j] * scale[j];
+    }
+    let bounds = Bounds::of(m, p, fixed_mass);
+    let (lo, hi): (Vec<f64>, Vec<f64>) = params
+        .iter()
+        .enumerate()
+        .map(|(j, q)| {
+            let (l, h) = bounds.range(*q);
+            (l * scale[j], h * scale[j])
+        })
+        .unzip();
+    let theta_scaled = box_solve(&lm, &rhs, &lo, &hi);
+    let mut theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
+    // the hump's bound used the previous Fc: clip the sum to the force bound
+    if let (Some(c), Some(h)) = (
+        params.iter().position(|q| *q == Param::Coulomb),
+        params.iter().position(|q| *q == Param::Static),
+    ) {
+        let cap = bounds.range(Param::Coulomb).1;
+        theta[h] = theta[h].min((cap - theta[c]).max(0.0));
+    }
+    let rss_lin: f64 = (0..n)
+        .map(|i| {
+            let pred: f64 = (0..k).map(|j| theta[j] * cols_f[j][i]).sum();
+            p.weight[i] * (target[i] - pred).powi(2)
+        })
+        .sum();
+    let n_scored = p.weight.iter().sum::<f64>();
+    let sigma2_noise = rss_lin / (n_scored - k as f64).max(1.0);
+    let inflation = n_scored / n_eff;
+    let var = |a: usize, b: usize| sigma2_noise * cov[(a, b)] * inflation / (scale[a] * scale[b]);
+    let i_c = params.iter().position(|q| *q == Param::Coulomb);
+    let estimates: Vec<Estimate> = params
+        .iter()
+        .enumerate()
+        .map(|(j, prm)| match (prm, i_c) {
+            // report Fs = Fc + hump, with the variance of the sum
+            (Param::Static, Some(c)) => Estimate {
+                param: *prm,
+                value: theta[j] + theta[c],
+                std_error: (var(j, j) + var(c, c) + 2.0 * var(j, c)).max(0.0).sqrt(),
+            },
+            _ => Estimate {
+                param: *prm,
+                value: theta[j],
+                std_error: var(j, j).max(0.0).sqrt(),
+            },
+        })
+        .collect();
+    (rebuild(m, &estimates), estimates)
+}
+
 // one pass over the samples fills every column: indexing reads clearer than zipped iterators
 #[allow(clippy::needless_range_loop)]
-fn linear_step(
+fn linearise(
     m: &AxisModel,
     sim: &Simulation,
     p: &Prepared,
     fixed_mass: Option<f64>,
     held_viscous: Option<f64>,
     n_eff: f64,
-    mu: f64,
-) -> (AxisModel, Vec<Estimate>) {
+) -> Linearisation {
     let n = p.len();
     let fr = &m.friction;
     let e = &fr.effects;
@@ -603,65 +712,21 @@ fn linear_step(
             * LS_STRIDE as f64
             / scale[a];
     }
-    // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space),
-    // solved within the physical box
-    let mut lm = xtx.clone();
-    let mut rhs = xty.clone();
-    for j in 0..k {
-        let d = mu * xtx[(j, j)];
-        lm[(j, j)] += d;
-        rhs[j] += d * theta0[j] * scale[j];
-    }
-    let bounds = Bounds::of(m, p, fixed_mass);
-    let (lo, hi): (Vec<f64>, Vec<f64>) = params
-        .iter()
-        .enumerate()
-        .map(|(j, q)| {
-            let (l, h) = bounds.range(*q);
-            (l * scale[j], h * scale[j])
-        })
-        .unzip();
-    let theta_scaled = box_solve(&lm, &rhs, &lo, &hi);
     // standard errors from the undamped normal matrix
-    let cov = pinv(xtx);
-    let mut theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
-    // the hump's bound used the previous Fc: clip the sum to the force bound
-    if let (Some(c), Some(h)) = (
-        params.iter().position(|q| *q == Param::Coulomb),
-        params.iter().position(|q| *q == Param::Static),
-    ) {
-        let cap = bounds.range(Param::Coulomb).1;
-        theta[h] = theta[h].min((cap - theta[c]).max(0.0));
+    let cov = pinv(xtx.clone());
+    Linearisation {
+        model: *m,
+        params,
+        theta0,
+        scale,
+        xtx,
+        xty,
+        cov,
+        cols_f,
+        target,
+        fixed_mass,
+        n_eff,
     }
-    let rss_lin: f64 = (0..n)
-        .map(|i| {
-            let pred: f64 = (0..k).map(|j| theta[j] * cols_f[j][i]).sum();
-            p.weight[i] * (target[i] - pred).powi(2)
-        })
-        .sum();
-    let n_scored = p.weight.iter().sum::<f64>();
-    let sigma2_noise = rss_lin / (n_scored - k as f64).max(1.0);
-    let inflation = n_scored / n_eff;
-    let var = |a: usize, b: usize| sigma2_noise * cov[(a, b)] * inflation / (scale[a] * scale[b]);
-    let i_c = params.iter().position(|q| *q == Param::Coulomb);
-    let estimates: Vec<Estimate> = params
-        .iter()
-        .enumerate()
-        .map(|(j, prm)| match (prm, i_c) {
-            // report Fs = Fc + hump, with the variance of the sum
-            (Param::Static, Some(c)) => Estimate {
-                param: *prm,
-                value: theta[j] + theta[c],
-                std_error: (var(j, j) + var(c, c) + 2.0 * var(j, c)).max(0.0).sqrt(),
-            },
-            _ => Estimate {
-                param: *prm,
-                value: theta[j],
-                std_error: var(j, j).max(0.0).sqrt(),
-            },
-        })
-        .collect();
-    (rebuild(m, &estimates), estimates)
 }
 
 /// Minimises `x' A x / 2 - b' x` over the box `lo <= x <= hi` (A symmetric positive

@@ -373,9 +373,9 @@ impl AxisModel {
             for i in r.clone() {
                 let c = p.conditions(i, &reference);
                 let v = p.v_step[i];
-                let f = self.friction.step_split(&mut st, v, p.v[i], &c, p.dt);
-                let levels = self.friction.levels(v, &c, st.dwell_time);
-                let g = self.friction.stribeck_curve(v, &levels);
+                let (f, g) = self
+                    .friction
+                    .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt);
                 out.friction.push(f);
                 out.bristle.push((sigma0 * st.z / g).clamp(-1.0, 1.0));
                 out.dwell.push(st.dwell_time);
