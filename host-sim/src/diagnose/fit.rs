@@ -692,25 +692,36 @@ fn linearise(
             }
         })
         .collect();
+    // One pass over the (strided) samples accumulates every product: the columns are read
+    // once, not once per pair. Each sum runs in sample order from -0.0, as `Iterator::sum`.
+    let mut sums = vec![-0.0; k * (k + 1) / 2];
+    let mut sums_y = vec![-0.0; k];
+    let mut row = vec![0.0; k];
+    for i in (0..n).step_by(LS_STRIDE) {
+        for (r, c) in row.iter_mut().zip(&cols_f) {
+            *r = c[i];
+        }
+        let mut at = 0;
+        for a in 0..k {
+            let wa = p.weight[i] * row[a];
+            for &rb in &row[a..] {
+                sums[at] += wa * rb;
+                at += 1;
+            }
+            sums_y[a] += wa * target[i];
+        }
+    }
     let mut xtx = DMatrix::<f64>::zeros(k, k);
     let mut xty = DVector::<f64>::zeros(k);
+    let mut at = 0;
     for a in 0..k {
         for b in a..k {
-            let s: f64 = (0..n)
-                .step_by(LS_STRIDE)
-                .map(|i| p.weight[i] * cols_f[a][i] * cols_f[b][i])
-                .sum::<f64>()
-                * LS_STRIDE as f64
-                / (scale[a] * scale[b]);
+            let s = sums[at] * LS_STRIDE as f64 / (scale[a] * scale[b]);
             xtx[(a, b)] = s;
             xtx[(b, a)] = s;
+            at += 1;
         }
-        xty[a] = (0..n)
-            .step_by(LS_STRIDE)
-            .map(|i| p.weight[i] * cols_f[a][i] * target[i])
-            .sum::<f64>()
-            * LS_STRIDE as f64
-            / scale[a];
+        xty[a] = sums_y[a] * LS_STRIDE as f64 / scale[a];
     }
     // standard errors from the undamped normal matrix
     let cov = pinv(xtx.clone());
