@@ -555,6 +555,41 @@ mod tests {
     }
 
     #[test]
+    fn the_step_reports_the_stribeck_level_it_used() {
+        // what an inverse model reads instead of evaluating the levels again: the same force
+        // as step_split and, bit for bit, g(v) at the mean velocity's direction and the
+        // dwell time after the step, with direction-dependent and dwell-dependent levels
+        let mut m = base();
+        m.effects.asymmetry = Some(Asymmetry {
+            coulomb_ratio: 0.2,
+            static_ratio: -0.1,
+            viscous_ratio: 0.05,
+        });
+        m.effects.dwell_stiction = Some(DwellStiction {
+            max_increase: 150.0,
+            time_constant: 0.3,
+            stick_velocity: 1e-4,
+            renewal_distance: 1e-3,
+        });
+        let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
+        for i in 0..3000 {
+            let t = i as f64 * 1e-3;
+            // rests, creep and reversals
+            let v_mean = 0.004 * (6.0 * t).sin().powi(3);
+            let v_now = 0.004 * (6.0 * (t + 1e-3)).sin().powi(3);
+            let f = m.step_split(&mut a, v_mean, v_now, &REF, 1e-3);
+            let (f2, g) = m.step_split_with_curve(&mut b, v_mean, v_now, &REF, 1e-3);
+            assert_eq!(f.to_bits(), f2.to_bits(), "step {i}");
+            assert_eq!(a, b);
+            let expected = m.stribeck_curve(v_mean, &m.levels(v_mean, &REF, b.dwell_time));
+            assert_eq!(g.to_bits(), expected.to_bits(), "step {i}");
+        }
+        // and the dwell clock did run, so the check covered a moving static level
+        let l = m.levels(0.0, &REF, 0.5);
+        assert!(l.static_ > m.levels(0.0, &REF, 0.0).static_);
+    }
+
+    #[test]
     fn levels_stay_physical_for_extreme_conditions() {
         let mut m = base();
         m.effects.load_dependence = Some(LoadDependence {
