@@ -1193,11 +1193,16 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
             // the static table plus the effect. The previous model may have bent its Stribeck
             // curve to mimic the missing effect (a hump with vs at the top speed mimicking a
             // sub-linear viscous law), a local minimum the effect's own search cannot leave.
-            let from_candidate = polish(&fit, Some(e), &p, fixed_mass, n_eff, 2, true);
-            let mut restart = static_seed(&p, fixed_mass);
-            restart.friction.effects = fit.model.friction.effects;
-            let restart = fit::refit(&restart, &p, fixed_mass, n_eff);
-            let from_table = polish(&restart, Some(e), &p, fixed_mass, n_eff, 2, true);
+            // (independent: run side by side)
+            let (from_candidate, from_table) = rayon::join(
+                || polish(&fit, Some(e), &p, fixed_mass, n_eff, 2, true),
+                || {
+                    let mut restart = static_seed(&p, fixed_mass);
+                    restart.friction.effects = fit.model.friction.effects;
+                    let restart = fit::refit(&restart, &p, fixed_mass, n_eff);
+                    polish(&restart, Some(e), &p, fixed_mass, n_eff, 2, true)
+                },
+            );
             if from_table.rss < from_candidate.rss {
                 from_table
             } else {
