@@ -436,40 +436,37 @@ struct Linearisation {
     cols_f: Vec<Vec<f64>>,
     /// The filtered target `force - (model0 - J theta0)` \[N\].
     target: Vec<f64>,
-    /// The mass when the user fixed it \[kg\] (then not a column).
-    fixed_mass: Option<f64>,
-    /// Effective number of independent samples (inflates the standard errors).
-    n_eff: f64,
+    /// The parameters' physical box about `model`.
+    bounds: Bounds,
+    /// The scored samples' total weight (the residual's degrees of freedom).
+    n_scored: f64,
+    /// How many scored samples one independent sample stands for (`n_scored / N_eff`): it
+    /// inflates the standard errors.
+    inflation: f64,
 }
 
 /// One Levenberg-Marquardt step with damping `mu` from a linearisation.
 fn linear_step(lin: &Linearisation, p: &Prepared, mu: f64) -> (AxisModel, Vec<Estimate>) {
-    let Linearisation {
-        model: m,
-        params,
-        theta0,
-        scale,
-        xtx,
-        xty,
-        cov,
-        cols_f,
-        target,
-        fixed_mass,
-        n_eff,
-    } = lin;
-    let (fixed_mass, n_eff) = (*fixed_mass, *n_eff);
+    let (params, theta0, scale, xtx, cols_f, target) = (
+        &lin.params,
+        &lin.theta0,
+        &lin.scale,
+        &lin.xtx,
+        &lin.cols_f,
+        &lin.target,
+    );
     let n = p.len();
     let k = params.len();
     // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space),
     // solved within the physical box
     let mut lm = xtx.clone();
-    let mut rhs = xty.clone();
+    let mut rhs = lin.xty.clone();
     for j in 0..k {
         let d = mu * xtx[(j, j)];
         lm[(j, j)] += d;
         rhs[j] += d * theta0[j] * scale[j];
     }
-    let bounds = Bounds::of(m, p, fixed_mass);
+    let bounds = lin.bounds;
     let (lo, hi): (Vec<f64>, Vec<f64>) = params
         .iter()
         .enumerate()
@@ -494,10 +491,9 @@ fn linear_step(lin: &Linearisation, p: &Prepared, mu: f64) -> (AxisModel, Vec<Es
             p.weight[i] * (target[i] - pred).powi(2)
         })
         .sum();
-    let n_scored = p.weight.iter().sum::<f64>();
-    let sigma2_noise = rss_lin / (n_scored - k as f64).max(1.0);
-    let inflation = n_scored / n_eff;
-    let var = |a: usize, b: usize| sigma2_noise * cov[(a, b)] * inflation / (scale[a] * scale[b]);
+    let sigma2_noise = rss_lin / (lin.n_scored - k as f64).max(1.0);
+    let var =
+        |a: usize, b: usize| sigma2_noise * lin.cov[(a, b)] * lin.inflation / (scale[a] * scale[b]);
     let i_c = params.iter().position(|q| *q == Param::Coulomb);
     let estimates: Vec<Estimate> = params
         .iter()
@@ -516,7 +512,7 @@ fn linear_step(lin: &Linearisation, p: &Prepared, mu: f64) -> (AxisModel, Vec<Es
             },
         })
         .collect();
-    (rebuild(m, &estimates), estimates)
+    (rebuild(&lin.model, &estimates), estimates)
 }
 
 // one pass over the samples fills every column: indexing reads clearer than zipped iterators
@@ -723,20 +719,21 @@ fn linearise(
         }
         xty[a] = sums_y[a] * LS_STRIDE as f64 / scale[a];
     }
-    // standard errors from the undamped normal matrix
-    let cov = pinv(xtx.clone());
+    let n_scored = p.weight.iter().sum::<f64>();
     Linearisation {
         model: *m,
         params,
         theta0,
         scale,
+        // standard errors from the undamped normal matrix
+        cov: pinv(xtx.clone()),
         xtx,
         xty,
-        cov,
         cols_f,
         target,
-        fixed_mass,
-        n_eff,
+        bounds: Bounds::of(m, p, fixed_mass),
+        n_scored,
+        inflation: n_scored / n_eff,
     }
 }
 
