@@ -4,7 +4,9 @@
 //! noise floor is), the diagnosis's baseline and its fitted `dwell_stiction` candidate, and
 //! that candidate's dwell clock against the rest the record shows. Per record: the rms
 //! differences, and the rank correlation of the residual peaks (measured minus baseline,
-//! signed by direction) with the rest time.
+//! signed by direction) with the rest time, and the three trends' evidence and growth: the
+//! measured peaks' (`raw`), the baseline's residual peaks' (`resid`, what the decision asks
+//! along with `raw`) and the friction peaks' (force less the baseline's inertia, `friction`).
 //!
 //! `cargo run --release -p host-sim --example dwell_probe -- [EFFECT|none] [FIRST_SEED] [N] [-v]`
 //! (defaults `dwell_stiction 20700 10`: the held-out dwell records; `-v` lists departures).
@@ -106,6 +108,16 @@ fn main() {
             axis.actuator, axis.mass_kg, axis.sigma0, axis.static_n, axis.shape, meas.len(), rms(&meas, &pt), rms(&pt, &pn), rms(&meas, &pb), rms(&meas, &pd),
             brk.trend.as_ref().map(|t| (t.increase_n, t.delta_bic)), dw.and_then(|c| c.caution.clone()));
         s += &format!("  residual peaks against the rest: rank correlation {sp:.2}, trend dBIC {tb:.1}, dF {tdf:.1} N\n");
+        let resid: Vec<f64> = brk.departures.iter().zip(&pb).map(|(e, b)| e.peak_n - b).collect();
+        let rt = brk.trend_of(&resid);
+        let ma = p.filter(&p.a);
+        let fr: Vec<f64> = p.force.iter().zip(&ma).map(|(f, a)| f - base.fit.model.mass_kg * a).collect();
+        let fpk: Vec<f64> = brk.departures.iter().map(|e| { let w = e.window.clone(); e.direction * fr[w].iter().fold(f64::NEG_INFINITY, |m, x| m.max(e.direction * x)) }).collect();
+        let ft = brk.trend_of(&fpk);
+        s += &format!("  TRENDS raw={:.1} resid={:.1} (dF {:.1}+-{:.1}) friction={:.1} (dF {:.1}+-{:.1})\n",
+            brk.trend.as_ref().map_or(f64::NAN, |t| t.delta_bic),
+            rt.as_ref().map_or(f64::NAN, |t| t.delta_bic), rt.as_ref().map_or(f64::NAN, |t| t.increase_n), rt.as_ref().map_or(f64::NAN, |t| t.increase_ci_n),
+            ft.as_ref().map_or(f64::NAN, |t| t.delta_bic), ft.as_ref().map_or(f64::NAN, |t| t.increase_n), ft.as_ref().map_or(f64::NAN, |t| t.increase_ci_n));
         let clock: Vec<f64> = match dw.and_then(|c| c.fit.as_ref()) {
             Some(f) => {
                 let sim = f.model.simulate(p);

@@ -59,7 +59,10 @@ pub const DWELL_MIN_PEAK_DBIC: f64 = 2.0;
 pub const DWELL_MIN_GROWTH_DBIC: f64 = 2.0;
 
 /// `dwell_stiction` is significant only where the measured peaks themselves grow with the rest
-/// time: the model-free trend's evidence ([`DwellTrend::delta_bic`]) at least this much. The
+/// time, and the peaks the current model leaves unexplained too: each trend's evidence
+/// ([`DwellTrend::delta_bic`]) at least this much, for a growth above zero
+/// ([`DwellTrend::shows_growth`]; until session 16 the sign was not asked, and a fit whose
+/// peaks fell by 9.8 kN over the rests passed on one calibration record). The
 /// model-based test ([`DWELL_MIN_GROWTH_DBIC`]) alone called the effect on 12 of 50
 /// effect-free calibration records: a model's breakaway errors can grow with the rest where
 /// the measured peaks do not (its bristle state through a rest follows a quantised encoder),
@@ -119,6 +122,15 @@ pub struct DwellTrend {
     pub time_constant_s: f64,
     /// Evidence for the growth against constant levels.
     pub delta_bic: f64,
+}
+
+impl DwellTrend {
+    /// The peaks grow with the rest time: evidence of at least [`DWELL_MIN_TREND_DBIC`] for a
+    /// positive growth (peaks that fall with the rest are no dwell stiction, however strong
+    /// the evidence).
+    pub fn shows_growth(&self) -> bool {
+        self.delta_bic >= DWELL_MIN_TREND_DBIC && self.increase_n > 0.0
+    }
 }
 
 /// Grid of the trend's time constant \[s\].
@@ -240,6 +252,30 @@ impl Breakaway {
             .collect()
     }
 
+    /// The dwell trend of values at the departures (signed like the peaks), e.g. a model's
+    /// peak residuals.
+    pub fn trend_of(&self, signed: &[f64]) -> Option<DwellTrend> {
+        trend_of(&self.departures, signed)
+    }
+
+    /// The dwell trend of the peaks a model leaves unexplained (measured minus the model's
+    /// peak at each departure) against the rest time: `None` where the record cannot test
+    /// dwell stiction ([`Self::untestable`]) or the fit is degenerate. Unlike the measured
+    /// peaks' trend, the residual's carries neither the inertial force of each departure's
+    /// acceleration nor a breakaway level the model already gives.
+    pub fn unexplained_trend(&self, prediction: &[f64]) -> Option<DwellTrend> {
+        if self.untestable.is_some() || self.departures.is_empty() {
+            return None;
+        }
+        let residual: Vec<f64> = self
+            .model_peaks(prediction)
+            .iter()
+            .zip(&self.departures)
+            .map(|(m, d)| d.peak_n - m)
+            .collect();
+        self.trend_of(&residual)
+    }
+
     /// Sum of squared peak residuals of a model's prediction [N^2].
     pub fn peak_rss(&self, prediction: &[f64]) -> f64 {
         self.model_peaks(prediction)
@@ -268,8 +304,19 @@ impl Breakaway {
 
 /// The model-free dwell trend (see the module docs); `None` when the fit is degenerate.
 fn trend(deps: &[Departure]) -> Option<DwellTrend> {
+    let peaks: Vec<f64> = deps.iter().map(|d| d.peak_n).collect();
+    trend_of(deps, &peaks)
+}
+
+/// The dwell trend of signed values at the departures (one per departure, signed like the
+/// peaks) against the rest before each.
+fn trend_of(deps: &[Departure], signed: &[f64]) -> Option<DwellTrend> {
     let n = deps.len();
-    let mags: Vec<f64> = deps.iter().map(|d| d.direction * d.peak_n).collect();
+    let mags: Vec<f64> = deps
+        .iter()
+        .zip(signed)
+        .map(|(d, s)| d.direction * s)
+        .collect();
     let fwd: Vec<f64> = deps
         .iter()
         .map(|d| if d.direction > 0.0 { 1.0 } else { 0.0 })
@@ -440,6 +487,56 @@ mod tests {
         assert!(t.increase_n - t.increase_ci_n > 0.0, "{t:?}");
         // the direction levels are kept apart (asymmetric breakaway)
         assert!((t.level_n[0] - 120.0).abs() < 6.0 && (t.level_n[1] - 100.0).abs() < 6.0);
+    }
+
+    /// A prediction whose peak in each departure's window is `model(rest)` (the departures'
+    /// windows laid side by side, 10 samples each).
+    fn prediction_for(deps: &mut [Departure], model: impl Fn(f64) -> f64) -> Vec<f64> {
+        let mut out = vec![0.0; 10 * deps.len()];
+        for (k, d) in deps.iter_mut().enumerate() {
+            d.window = 10 * k..10 * k + 10;
+            out[10 * k + 4] = d.direction * model(d.rest_s);
+            // a smaller value of the same sign elsewhere in the window is not the peak
+            out[10 * k + 7] = 0.5 * d.direction * model(d.rest_s);
+        }
+        out
+    }
+
+    #[test]
+    fn the_unexplained_trend_is_what_the_model_leaves_of_the_growth() {
+        let growth = |r: f64| -40.0 * (-r / 0.3f64).exp_m1();
+        let mut deps = departures(&RESTS, 40.0);
+        let mut brk = Breakaway {
+            departures: deps.clone(),
+            ..Default::default()
+        };
+        // a model with one breakaway level per direction leaves the whole growth
+        let flat = prediction_for(&mut deps, |_| 110.0);
+        brk.departures = deps.clone();
+        let t = brk.unexplained_trend(&flat).expect("trend");
+        assert!(
+            t.delta_bic > 10.0 && (t.increase_n - 40.0).abs() < 8.0,
+            "{t:?}"
+        );
+        assert!(t.shows_growth());
+        // a model whose peaks already grow with the rest leaves none
+        let grows = prediction_for(&mut deps, |r| 110.0 + growth(r));
+        brk.departures = deps.clone();
+        let t = brk.unexplained_trend(&grows).expect("trend");
+        assert!(t.delta_bic < 2.0 && !t.shows_growth(), "{t:?}");
+        // nor on a record that cannot test dwell stiction
+        brk.untestable = Some("too few departures".into());
+        assert!(brk.unexplained_trend(&flat).is_none());
+        // peaks that fall with the rest: a trend, but of the wrong sign
+        let mut falling = departures(&RESTS, -40.0);
+        let flat = prediction_for(&mut falling, |_| 110.0);
+        let brk = Breakaway {
+            departures: falling,
+            ..Default::default()
+        };
+        let t = brk.unexplained_trend(&flat).expect("trend");
+        assert!(t.delta_bic > 10.0 && t.increase_n < 0.0, "{t:?}");
+        assert!(!t.shows_growth());
     }
 
     #[test]
