@@ -1007,7 +1007,8 @@ fn judge(
     let peaks = brk.counted_peak_dbic(brk.peak_rss(&current.prediction), &fit.prediction);
     let dbic = sliding + peaks.unwrap_or(0.0);
     // dwell stiction acts only where the axis breaks away: the peaks must bear it out, and
-    // the measured peaks must grow with the rest time
+    // the measured peaks and those the current model leaves unexplained must grow with the
+    // rest time
     let caution = match info.kind {
         EffectKind::DwellStiction if !brk.ignored => dwell_precondition(brk, current, peaks)
             .or_else(|| {
