@@ -447,54 +447,42 @@ struct Linearisation {
 
 /// One Levenberg-Marquardt step with damping `mu` from a linearisation.
 fn linear_step(lin: &Linearisation, p: &Prepared, mu: f64) -> (AxisModel, Vec<Estimate>) {
-    let (params, theta0, scale, xtx, cols_f, target) = (
-        &lin.params,
-        &lin.theta0,
-        &lin.scale,
-        &lin.xtx,
-        &lin.cols_f,
-        &lin.target,
-    );
-    let n = p.len();
+    let (params, scale) = (&lin.params, &lin.scale);
     let k = params.len();
     // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space),
     // solved within the physical box
-    let mut lm = xtx.clone();
+    let mut lm = lin.xtx.clone();
     let mut rhs = lin.xty.clone();
     for j in 0..k {
-        let d = mu * xtx[(j, j)];
+        let d = mu * lin.xtx[(j, j)];
         lm[(j, j)] += d;
-        rhs[j] += d * theta0[j] * scale[j];
+        rhs[j] += d * lin.theta0[j] * scale[j];
     }
-    let bounds = lin.bounds;
     let (lo, hi): (Vec<f64>, Vec<f64>) = params
         .iter()
         .enumerate()
         .map(|(j, q)| {
-            let (l, h) = bounds.range(*q);
+            let (l, h) = lin.bounds.range(*q);
             (l * scale[j], h * scale[j])
         })
         .unzip();
     let theta_scaled = box_solve(&lm, &rhs, &lo, &hi);
     let mut theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
+    let i_c = params.iter().position(|q| *q == Param::Coulomb);
     // the hump's bound used the previous Fc: clip the sum to the force bound
-    if let (Some(c), Some(h)) = (
-        params.iter().position(|q| *q == Param::Coulomb),
-        params.iter().position(|q| *q == Param::Static),
-    ) {
-        let cap = bounds.range(Param::Coulomb).1;
+    if let (Some(c), Some(h)) = (i_c, params.iter().position(|q| *q == Param::Static)) {
+        let cap = lin.bounds.range(Param::Coulomb).1;
         theta[h] = theta[h].min((cap - theta[c]).max(0.0));
     }
-    let rss_lin: f64 = (0..n)
+    let rss_lin: f64 = (0..p.len())
         .map(|i| {
-            let pred: f64 = (0..k).map(|j| theta[j] * cols_f[j][i]).sum();
-            p.weight[i] * (target[i] - pred).powi(2)
+            let pred: f64 = (0..k).map(|j| theta[j] * lin.cols_f[j][i]).sum();
+            p.weight[i] * (lin.target[i] - pred).powi(2)
         })
         .sum();
     let sigma2_noise = rss_lin / (lin.n_scored - k as f64).max(1.0);
     let var =
         |a: usize, b: usize| sigma2_noise * lin.cov[(a, b)] * lin.inflation / (scale[a] * scale[b]);
-    let i_c = params.iter().position(|q| *q == Param::Coulomb);
     let estimates: Vec<Estimate> = params
         .iter()
         .enumerate()

@@ -730,6 +730,28 @@ pub fn polish(
 /// have moved (usize::MAX: all).
 pub const POLISHED_LEADERS: usize = 5;
 
+/// The model candidates are judged against, with what the breakaway evidence says of it:
+/// one model per stage, so this is computed once, not once per candidate and verdict.
+struct Current<'a> {
+    /// The current model's fit.
+    fit: &'a Fit,
+    /// Its breakaway peaks' residual sum of squares \[N^2\].
+    peak_rss: f64,
+    /// The dwell trend of the breakaway peaks it leaves unexplained
+    /// ([`Breakaway::unexplained_trend`]).
+    unexplained: Option<breakaway::DwellTrend>,
+}
+
+impl<'a> Current<'a> {
+    fn new(fit: &'a Fit, brk: &Breakaway) -> Self {
+        Self {
+            fit,
+            peak_rss: brk.peak_rss(&fit.prediction),
+            unexplained: brk.unexplained_trend(&fit.prediction),
+        }
+    }
+}
+
 /// Scores every effect not yet in `current`, best first (skipped ones last).
 pub fn rank_candidates(
     p: &Prepared,
@@ -738,10 +760,11 @@ pub fn rank_candidates(
     fixed_mass: Option<f64>,
     n_eff: f64,
 ) -> Vec<Candidate> {
+    let reference = Current::new(current, brk);
     let mut out: Vec<Candidate> = EFFECTS
         .par_iter()
         .filter(|e| !current.model.friction.effects.has(e.kind))
-        .map(|info| score(p, brk, current, info, fixed_mass, n_eff))
+        .map(|info| score(p, brk, &reference, info, fixed_mass, n_eff))
         .collect();
     let by_bic = |a: &Candidate, b: &Candidate| {
         b.delta_bic
@@ -772,8 +795,8 @@ pub fn rank_candidates(
         if better {
             let info = effect_info(out[i].kind);
             let (params, nl) = (out[i].parameters.clone(), out[i].nonlinear_excludes_null);
-            let rest_null = rest_independent_twin(p, fixed_mass, brk, info, current, &f, n_eff);
-            out[i] = judge(brk, current, info, f, params, nl, rest_null, n_eff);
+            let rest_null = rest_independent_twin(p, fixed_mass, brk, info, &reference, &f, n_eff);
+            out[i] = judge(brk, &reference, info, f, params, nl, rest_null, n_eff);
         }
     }
     // Final verdict for every candidate, on one yardstick: the noise is judged from the best
@@ -794,7 +817,7 @@ pub fn rank_candidates(
         .map(|c| match &c.fit {
             Some(f) => judge(
                 brk,
-                current,
+                &reference,
                 effect_info(c.kind),
                 f.clone(),
                 c.parameters.clone(),
@@ -813,7 +836,7 @@ pub fn rank_candidates(
 fn score(
     p: &Prepared,
     brk: &Breakaway,
-    current: &Fit,
+    current: &Current,
     info: &EffectInfo,
     fixed_mass: Option<f64>,
     n_eff: f64,
@@ -847,7 +870,7 @@ fn score(
             let mut best: Option<fit::GridResult<Fit>> = None;
             for shape in shapes {
                 let (x, f, profile) = fit::grid_min(grid, |x| {
-                    let mut m = fit::add_effect(&current.model, info.kind, p, x);
+                    let mut m = fit::add_effect(&current.fit.model, info.kind, p, x);
                     if let Some(v) = shape {
                         m = fit::with_shape(&m, info.kind, v);
                     }
@@ -897,7 +920,7 @@ fn score(
         }
         None => (
             fit::refit(
-                &fit::add_effect(&current.model, info.kind, p, 0.0),
+                &fit::add_effect(&current.fit.model, info.kind, p, 0.0),
                 p,
                 fixed_mass,
                 n_eff,
@@ -960,7 +983,7 @@ pub fn decision_cut(kind: EffectKind, brk: &Breakaway, current: &Fit, candidate:
 #[allow(clippy::too_many_arguments)]
 fn judge(
     brk: &Breakaway,
-    current: &Fit,
+    current: &Current,
     info: &EffectInfo,
     fit: Fit,
     parameters: Vec<ParamReport>,
@@ -1002,9 +1025,9 @@ fn judge(
         }
     }
     let k = own.len() + usize::from(info.nonlinear.is_some());
-    let sliding = n_eff * (current.rss / fit.rss).ln() - k as f64 * n_eff.ln();
+    let sliding = n_eff * (current.fit.rss / fit.rss).ln() - k as f64 * n_eff.ln();
     // the breakaway peaks count once there are enough of them to be more than anecdote
-    let peaks = brk.counted_peak_dbic(brk.peak_rss(&current.prediction), &fit.prediction);
+    let peaks = brk.counted_peak_dbic(current.peak_rss, &fit.prediction);
     let dbic = sliding + peaks.unwrap_or(0.0);
     // dwell stiction acts only where the axis breaks away: the peaks must bear it out, and
     // the measured peaks and those the current model leaves unexplained must grow with the
@@ -1029,7 +1052,7 @@ fn judge(
         _ => None,
     };
     let detected = dbic > 10.0 && caution.is_none() && (linear_excludes || nonlinear_excludes_null);
-    let error_cut = decision_cut(info.kind, brk, current, &fit);
+    let error_cut = decision_cut(info.kind, brk, current.fit, &fit);
     Candidate {
         kind: info.kind,
         meaning: info.meaning.into(),
@@ -1075,7 +1098,7 @@ struct RestNull {
 /// alone 4 and 2 (one of the 4 on a trend whose growth was negative), both together 3 and 1;
 /// on the held-out seeds both together keep the 2 of 10 dwell records and take the false
 /// positives from 2 of 50 to 0.
-fn dwell_precondition(brk: &Breakaway, current: &Fit, peaks: Option<f64>) -> Option<String> {
+fn dwell_precondition(brk: &Breakaway, current: &Current, peaks: Option<f64>) -> Option<String> {
     let peaks = peaks.unwrap_or(0.0);
     let summary = |t: Option<&breakaway::DwellTrend>| {
         t.map_or("no trend".to_string(), |t| {
@@ -1107,12 +1130,12 @@ fn dwell_precondition(brk: &Breakaway, current: &Fit, peaks: Option<f64>) -> Opt
             })
         })
         .or_else(|| {
-            let unexplained = brk.unexplained_trend(&current.prediction);
-            (!unexplained.as_ref().is_some_and(|t| t.shows_growth())).then(|| {
+            let unexplained = current.unexplained.as_ref();
+            (!unexplained.is_some_and(|t| t.shows_growth())).then(|| {
                 format!(
                     "the breakaway peaks the model leaves unexplained do not grow with the rest \
                      time ({}; needs evidence >= {} for a growth > 0; {advice})",
-                    summary(unexplained.as_ref()),
+                    summary(unexplained),
                     breakaway::DWELL_MIN_TREND_DBIC,
                 )
             })
@@ -1127,11 +1150,11 @@ fn rest_independent_twin(
     fixed_mass: Option<f64>,
     brk: &Breakaway,
     info: &EffectInfo,
-    current: &Fit,
+    current: &Current,
     fit: &Fit,
     n_eff: f64,
 ) -> Option<RestNull> {
-    let peaks = brk.counted_peak_dbic(brk.peak_rss(&current.prediction), &fit.prediction);
+    let peaks = brk.counted_peak_dbic(current.peak_rss, &fit.prediction);
     if info.kind != EffectKind::DwellStiction
         || brk.ignored
         || dwell_precondition(brk, current, peaks).is_some()
