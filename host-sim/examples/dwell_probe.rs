@@ -108,12 +108,12 @@ fn main() {
             axis.actuator, axis.mass_kg, axis.sigma0, axis.static_n, axis.shape, meas.len(), rms(&meas, &pt), rms(&pt, &pn), rms(&meas, &pb), rms(&meas, &pd),
             brk.trend.as_ref().map(|t| (t.increase_n, t.delta_bic)), dw.and_then(|c| c.caution.clone()));
         s += &format!("  residual peaks against the rest: rank correlation {sp:.2}, trend dBIC {tb:.1}, dF {tdf:.1} N\n");
-        let resid: Vec<f64> = brk.departures.iter().zip(&pb).map(|(e, b)| e.peak_n - b).collect();
-        let rt = brk.trend_of(&resid);
-        let ma = p.filter(&p.a);
-        let fr: Vec<f64> = p.force.iter().zip(&ma).map(|(f, a)| f - base.fit.model.mass_kg * a).collect();
-        let fpk: Vec<f64> = brk.departures.iter().map(|e| { let w = e.window.clone(); e.direction * fr[w].iter().fold(f64::NEG_INFINITY, |m, x| m.max(e.direction * x)) }).collect();
-        let ft = brk.trend_of(&fpk);
+        // the decision's own residual trend (its windows on the baseline's prediction), and
+        // the same trend on the friction: the force less the baseline's inertia, in the band
+        let rt = brk.unexplained_trend(&base.fit.prediction);
+        let inertia = p.filter(&p.a);
+        let friction: Vec<f64> = p.force.iter().zip(&inertia).map(|(f, a)| f - base.fit.model.mass_kg * a).collect();
+        let ft = brk.trend_of(&brk.model_peaks(&friction));
         s += &format!("  TRENDS raw={:.1} resid={:.1} (dF {:.1}+-{:.1}) friction={:.1} (dF {:.1}+-{:.1})\n",
             brk.trend.as_ref().map_or(f64::NAN, |t| t.delta_bic),
             rt.as_ref().map_or(f64::NAN, |t| t.delta_bic), rt.as_ref().map_or(f64::NAN, |t| t.increase_n), rt.as_ref().map_or(f64::NAN, |t| t.increase_ci_n),
