@@ -110,12 +110,7 @@ fn main() {
             .split(',')
             .map(|item| {
                 let (e, seed) = item.split_once(':').expect("EFFECT:SEED");
-                let effect = (e != "none").then(|| {
-                    *EFFECTS
-                        .iter()
-                        .find(|k| **k == e)
-                        .unwrap_or_else(|| panic!("unknown effect {e}"))
-                });
+                let effect = generators::axis::effect_named(e).unwrap_or_else(|e| panic!("{e}"));
                 (effect, seed.parse().expect("seed"))
             })
             .collect();

@@ -72,22 +72,14 @@ fn main() {
     let s0: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(20700);
     let n: u64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(10);
     let verbose = args.iter().any(|a| a == "-v");
-    let effect: Option<&'static str> = if eff == "none" {
-        None
-    } else {
-        Some(Box::leak(eff.into_boxed_str()))
-    };
+    let effect = generators::axis::effect_named(&eff).unwrap_or_else(|e| panic!("{e}"));
     let out: Vec<String> = (s0..s0 + n).collect::<Vec<_>>().par_iter().map(|&seed| {
         let (text, axis) = random_record(effect, seed);
         let rec = Record::parse(&text, Path::new("x.csv")).unwrap();
         let opts = Options { skip_final_ranking: true, ..Default::default() };
         let d = diagnose::diagnose(&rec, "x.csv", &opts).unwrap();
         let p = &d.prepared;
-        let truth = |ax: &Axis| {
-            let f = ax.friction_along(&p.t, &p.x, &p.v_step, p.pressure_sum.as_deref(), p.temperature.as_deref(), &p.segments, p.dt);
-            let force: Vec<f64> = p.a.iter().zip(&f).map(|(a, f)| ax.mass_kg * a + f).collect();
-            p.filter(&force)
-        };
+        let truth = |ax: &Axis| p.filter(&generators::axis::truth_force(ax, p));
         let tr = truth(&axis);
         let nod = truth(&Axis { shape: Shape::None, ..axis.clone() });
         let brk = &d.breakaway;

@@ -46,12 +46,7 @@ fn main() {
     let first: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(500);
     let count: u64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1);
     let verbose = args.iter().any(|a| a == "-v");
-    let effect: Option<&'static str> = (effect_arg != "none").then(|| {
-        *generators::axis::EFFECTS
-            .iter()
-            .find(|e| **e == effect_arg)
-            .unwrap_or_else(|| panic!("unknown effect {effect_arg}"))
-    });
+    let effect = generators::axis::effect_named(&effect_arg).unwrap_or_else(|e| panic!("{e}"));
     let seeds: Vec<u64> = (first..first + count).collect();
     let out: Vec<String> = seeds
         .par_iter()
@@ -81,23 +76,7 @@ fn probe(effect: Option<&'static str>, seed: u64, verbose: bool) -> String {
     };
     let d = diagnose::diagnose(&rec, "probe.csv", &opts).expect("diagnosis");
     let p = &d.prepared;
-    let truth = {
-        let f = axis.friction_along(
-            &p.t,
-            &p.x,
-            &p.v_step,
-            p.pressure_sum.as_deref(),
-            p.temperature.as_deref(),
-            &p.segments,
-            p.dt,
-        );
-        let force: Vec<f64> =
-            p.a.iter()
-                .zip(&f)
-                .map(|(a, f)| axis.mass_kg * a + f)
-                .collect();
-        p.filter(&force)
-    };
+    let truth = p.filter(&generators::axis::truth_force(&axis, p));
     let base = &d.stages[0].fit.prediction;
     // time since the last sample left out of the score (a rest)
     let mut since = vec![0.0; p.len()];

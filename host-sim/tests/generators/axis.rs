@@ -41,6 +41,25 @@ pub const EFFECTS: [&str; 8] = [
     "dwell_stiction",
 ];
 
+/// The hidden effect of that name (`none`: effect-free), as the benchmarks take it on their
+/// command lines; an unknown name is an error naming it.
+#[allow(dead_code)]
+pub fn effect_named(name: &str) -> Result<Option<&'static str>, String> {
+    if name == "none" {
+        return Ok(None);
+    }
+    EFFECTS
+        .iter()
+        .find(|e| **e == name)
+        .map(|e| Some(*e))
+        .ok_or_else(|| {
+            format!(
+                "unknown effect {name} (none or one of {})",
+                EFFECTS.join(", ")
+            )
+        })
+}
+
 /// Sample period of the record [s].
 pub const DT: f64 = 1e-3;
 /// Integration sub-steps per sample.
@@ -473,11 +492,10 @@ impl Axis {
     }
 }
 
-/// The error [%] of this axis's true model driven by the measured motion through the diagnosis
-/// pipeline (`M a + friction` along the prepared record, scored like any model): the noise
-/// floor. The physics stays the generator's own; only the measured motion and the scoring are
-/// the pipeline's.
-pub fn truth_error_pct(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> f64 {
+/// The force of this axis's true model driven by the measured motion (`M a + friction` along
+/// the prepared record, unfiltered) \[N\]. The physics stays the generator's own; only the
+/// measured motion is the pipeline's.
+pub fn truth_force(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> Vec<f64> {
     let friction = axis.friction_along(
         &p.t,
         &p.x,
@@ -487,12 +505,15 @@ pub fn truth_error_pct(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -
         &p.segments,
         p.dt,
     );
-    let force: Vec<f64> =
-        p.a.iter()
-            .zip(&friction)
-            .map(|(a, f)| axis.mass_kg * a + f)
-            .collect();
-    p.rel_err_pct(&force)
+    p.a.iter()
+        .zip(&friction)
+        .map(|(a, f)| axis.mass_kg * a + f)
+        .collect()
+}
+
+/// The error [%] of [`truth_force`], scored like any model: the noise floor.
+pub fn truth_error_pct(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> f64 {
+    p.rel_err_pct(&truth_force(axis, p))
 }
 
 /// Reference position at 1 kHz \[m\]: the random schedule of moves, sinusoids and dwells.
