@@ -161,14 +161,29 @@ impl<T: ModelFloat> FrictionModel<T> {
         }
     }
 
-    /// Stribeck level `g(v)` \[N\] for the given levels.
+    /// Stribeck level `g(v)` \[N\] for the given levels:
+    /// `Fc + (Fs - Fc) s(v)`, `s` the [`Self::stribeck_decay`].
     pub fn stribeck_curve(&self, velocity: T, l: &Levels<T>) -> T {
+        Self::curve_from_decay(l, self.stribeck_decay(velocity))
+    }
+
+    /// The Stribeck curve's decay `s(v) = e^{-(|v| / vs)^delta}` (`delta` = 2 without
+    /// `stribeck_shape`), in `[0, 1]`. It depends on the velocity, `vs` and `delta` only, not
+    /// on the levels: a caller that steps many models sharing them along one velocity record
+    /// computes it once per sample (see [`Self::step_split_with_decay`]).
+    #[inline]
+    pub fn stribeck_decay(&self, velocity: T) -> T {
         let r = (velocity / self.params.stribeck_velocity()).abs();
         let shape = match self.effects.stribeck_shape {
             Some(s) => r.powf(s.exponent),
             None => r * r,
         };
-        l.coulomb + (l.static_ - l.coulomb) * math::decay(shape)
+        math::decay(shape)
+    }
+
+    #[inline]
+    fn curve_from_decay(l: &Levels<T>, decay: T) -> T {
+        l.coulomb + (l.static_ - l.coulomb) * decay
     }
 
     /// Viscous force \[N\] for the given levels.
@@ -258,6 +273,31 @@ impl<T: ModelFloat> FrictionModel<T> {
             .0
     }
 
+    /// [`Self::step_split_with_curve`] with the Stribeck decay at the mean velocity given:
+    /// `stribeck_decay` must be [`Self::stribeck_decay`]`(mean_velocity)` of a model with this
+    /// one's `vs` and shape (then the result is the same, bit for bit). An inverse model that
+    /// refits the levels many times along one record computes the decay once per sample
+    /// instead of once per sample and model.
+    pub fn step_split_with_decay(
+        &self,
+        s: &mut FrictionState<T>,
+        mean_velocity: T,
+        velocity: T,
+        c: &Conditions<T>,
+        dt: T,
+        stribeck_decay: T,
+    ) -> (T, T) {
+        self.step_driven_given(
+            s,
+            mean_velocity,
+            mean_velocity,
+            velocity,
+            c,
+            dt,
+            Some(stribeck_decay),
+        )
+    }
+
     /// [`Self::step_driven`] and the Stribeck level `g(v)` \[N\] of its bristle step.
     #[inline]
     fn step_driven_with_curve(
@@ -268,6 +308,22 @@ impl<T: ModelFloat> FrictionModel<T> {
         velocity: T,
         c: &Conditions<T>,
         dt: T,
+    ) -> (T, T) {
+        self.step_driven_given(s, drive, mean_velocity, velocity, c, dt, None)
+    }
+
+    /// The step itself, with the Stribeck decay at the mean velocity computed here or given.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn step_driven_given(
+        &self,
+        s: &mut FrictionState<T>,
+        drive: T,
+        mean_velocity: T,
+        velocity: T,
+        c: &Conditions<T>,
+        dt: T,
+        stribeck_decay: Option<T>,
     ) -> (T, T) {
         if let Some(d) = self.effects.dwell_stiction {
             // Timer runs while stuck and is forgotten over the renewal distance once the axis
@@ -289,7 +345,11 @@ impl<T: ModelFloat> FrictionModel<T> {
         let (forward, backward) = self.levels_by_direction(c, s.dwell_time);
         let at = |v: T| if v >= T::zero() { forward } else { backward };
         let l = at(mean_velocity);
-        let g = self.stribeck_curve(mean_velocity, &l);
+        let decay = match stribeck_decay {
+            Some(d) => d,
+            None => self.stribeck_decay(mean_velocity),
+        };
+        let g = Self::curve_from_decay(&l, decay);
         let sigma0 = self.params.bristle_stiffness();
         let b = driven_bristle_step(s.z, drive, mean_velocity, sigma0, g, dt);
         // The invariant set is sign-wise: z grows positive only while moving in +x, where the
@@ -369,6 +429,53 @@ mod tests {
             f = m.step(&mut s, -0.05, &REF, dt);
         }
         assert!((f + 225.0).abs() < 1.0, "{f}");
+    }
+
+    #[test]
+    fn a_given_stribeck_decay_changes_no_bit() {
+        // a model with every effect that touches the step (shape, asymmetry, dwell clock),
+        // driven through rests, creep, reversals and sliding: the step with the decay given
+        // equals the step that computes it, bit for bit, in force, g and state
+        let mut m =
+            FrictionModel::plain(LugreParams::new(2e7, 800.0, 150.0, 300.0, 420.0, 0.004).unwrap());
+        m.effects.stribeck_shape = Some(StribeckShape { exponent: 1.3 });
+        m.effects.asymmetry = Some(Asymmetry {
+            coulomb_ratio: 0.2,
+            static_ratio: -0.1,
+            viscous_ratio: 0.05,
+        });
+        m.effects.dwell_stiction = Some(DwellStiction {
+            max_increase: 120.0,
+            time_constant: 0.3,
+            stick_velocity: 1e-4,
+            renewal_distance: 1e-3,
+        });
+        let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
+        for i in 0..4000 {
+            let t = i as f64 * 1e-3;
+            let v_mean = if i % 700 < 200 {
+                0.0
+            } else {
+                0.03 * (3.0 * t).sin()
+            };
+            let v_end = v_mean * 1.01;
+            let c = Conditions {
+                position: 0.01 * t,
+                ..REF
+            };
+            let fa = m.step_split_with_curve(&mut a, v_mean, v_end, &c, 1e-3);
+            let d = m.stribeck_decay(v_mean);
+            let fb = m.step_split_with_decay(&mut b, v_mean, v_end, &c, 1e-3, d);
+            assert_eq!(fa.0.to_bits(), fb.0.to_bits(), "force at {i}");
+            assert_eq!(fa.1.to_bits(), fb.1.to_bits(), "g at {i}");
+            assert_eq!(a, b, "state at {i}");
+        }
+        // and the decay is the curve's: g = Fc + (Fs - Fc) s(v) at the levels
+        let l = m.levels(0.002, &REF, 0.0);
+        let g = m.stribeck_curve(0.002, &l);
+        let s = m.stribeck_decay(0.002);
+        assert!((0.0..=1.0).contains(&s));
+        assert_eq!(g, l.coulomb + (l.static_ - l.coulomb) * s);
     }
 
     #[test]

@@ -231,9 +231,11 @@ fn refit_iterations(
             .with_levels(s2.max(0.0), q.coulomb_force(), q.static_force())
             .unwrap_or(q);
     }
+    // the levels move, vs and the shape do not: the Stribeck decay is evaluated once
+    let decay = model.stribeck_decay(p);
     // score a model: (weighted RSS, its simulation, its prediction)
     let score = |m: &AxisModel| {
-        let sim = m.simulate(p);
+        let sim = m.simulate_with_decay(p, &decay);
         let pred: Vec<f64> =
             p.a.iter()
                 .zip(&sim.friction)
@@ -258,8 +260,18 @@ fn refit_iterations(
     // the linearisation about the current model, rebuilt only when the model moves
     let mut lin: Option<Linearisation> = None;
     for _ in 0..iterations {
-        let l =
-            lin.get_or_insert_with(|| linearise(&model, &sim, p, fixed_mass, held_viscous, n_eff));
+        let l = lin.get_or_insert_with(|| {
+            linearise(
+                &model,
+                &sim,
+                &pred,
+                &decay,
+                p,
+                fixed_mass,
+                held_viscous,
+                n_eff,
+            )
+        });
         let (next, est) = linear_step(l, p, mu);
         let (next_rss, next_sim, next_pred) = score(&next);
         if next_rss <= rss {
@@ -505,9 +517,12 @@ fn linear_step(lin: &Linearisation, p: &Prepared, mu: f64) -> (AxisModel, Vec<Es
 
 // one pass over the samples fills every column: indexing reads clearer than zipped iterators
 #[allow(clippy::needless_range_loop)]
+#[allow(clippy::too_many_arguments)]
 fn linearise(
     m: &AxisModel,
     sim: &Simulation,
+    prediction: &[f64],
+    stribeck_decay: &[f64],
     p: &Prepared,
     fixed_mass: Option<f64>,
     held_viscous: Option<f64>,
@@ -521,8 +536,6 @@ fn linearise(
         fr.params.static_force(),
         fr.params.viscous_coefficient(),
     );
-    let vs = fr.params.stribeck_velocity();
-    let shape = e.stribeck_shape.map_or(2.0, |s| s.exponent);
     let (rc, rs, rv) = e.asymmetry.map_or((0.0, 0.0, 0.0), |a| {
         (a.coulomb_ratio, a.static_ratio, a.viscous_ratio)
     });
@@ -557,18 +570,33 @@ fn linearise(
         params.push(Param::DwellIncrease);
     }
     let k = params.len();
-    let mut cols = vec![vec![0.0; n]; k];
+    // The inertia's column is the acceleration, and the viscous one the velocity itself when
+    // no effect reshapes it (the factors are exactly 1): both come filtered with the record.
+    let plain_viscous =
+        rv == 0.0 && e.temperature_dependence.is_none() && e.viscous_power.is_none();
+    let cached = |q: &Param| match q {
+        Param::Mass => Some(&p.motion_filtered[0]),
+        Param::Viscous if plain_viscous => Some(&p.motion_filtered[1]),
+        _ => None,
+    };
+    // the other columns are built here, sample by sample
+    let built: Vec<(usize, Param)> = params
+        .iter()
+        .enumerate()
+        .filter(|(_, q)| cached(q).is_none())
+        .map(|(j, q)| (j, *q))
+        .collect();
+    let mut cols = vec![Vec::new(); k];
+    for &(j, _) in &built {
+        cols[j] = vec![0.0; n];
+    }
     for i in 0..n {
         let v = p.v_step[i];
         let d = if v >= 0.0 { 1.0 } else { -1.0 };
         let s = sim.bristle[i];
         let c = p.conditions(i, &reference);
-        let r = (v / vs).abs();
-        let ex = if shape == 2.0 {
-            (-(r * r)).exp()
-        } else {
-            (-r.powf(shape)).exp()
-        };
+        // the Stribeck decay e^{-(|v|/vs)^delta} the model's step used
+        let ex = stribeck_decay[i];
         let d_t = e
             .temperature_dependence
             .map_or(0.0, |t| c.temperature - t.reference_temperature);
@@ -615,7 +643,7 @@ fn linearise(
         // d(load_scale)/d(Fs) = -k b / Fs^2 (k held; zero without the effect), and
         // Fs = Fc + hump moves with both
         let scale_per_fs = -(load_scale - 1.0) / fs;
-        for (j, prm) in params.iter().enumerate() {
+        for &(j, prm) in &built {
             cols[j][i] = match prm {
                 Param::Mass => p.a[i],
                 Param::Coulomb => {
@@ -632,29 +660,33 @@ fn linearise(
                 Param::Offset => 1.0,
                 Param::LoadCoefficient => tau_c * load_x / fs * level0 * s,
                 Param::PositionGradient => tau_c * pos_x * s,
-                Param::PositionCosine(j) => tau_c * pos_basis[*j] * s,
+                Param::PositionCosine(j) => tau_c * pos_basis[j] * s,
                 // the shift is added after the direction's ratios (FrictionModel::levels)
                 Param::TempCoulomb => d_t * (level + shift) * s,
                 Param::DwellIncrease => w * ex * s,
             };
         }
     }
-    // Gauss-Newton: force ~ model0 + J (theta - theta0), so regress
-    // force - (model0 - J theta0) on J. Terms outside J (a fixed mass) stay in model0, and
-    // bilinear terms (rc Fc, rv sigma2) are linearised correctly.
-    let theta0: Vec<f64> = params.iter().map(|q| theta_of(m, *q)).collect();
-    let offset_part: Vec<f64> = (0..n)
-        .map(|i| {
-            let model0 = m.mass_kg * p.a[i] + sim.friction[i];
-            let j_theta0: f64 = (0..k).map(|j| theta0[j] * cols[j][i]).sum();
-            model0 - j_theta0
+    let to_filter: Vec<&[f64]> = built.iter().map(|&(j, _)| cols[j].as_slice()).collect();
+    let mut filtered = p.filter_many(&to_filter).into_iter();
+    let mut cols_f: Vec<Vec<f64>> = params
+        .iter()
+        .map(|q| match cached(q) {
+            Some(c) => c.clone(),
+            None => filtered.next().unwrap_or_default(),
         })
         .collect();
-    let mut all: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
-    all.push(&offset_part);
-    let mut filtered = p.filter_many(&all);
-    let offset_f = filtered.pop().unwrap_or_default();
-    let mut cols_f = filtered;
+    // Gauss-Newton: force ~ model0 + J (theta - theta0), so regress
+    // force - (model0 - J theta0) on J. Terms outside J (a fixed mass) stay in model0, and
+    // bilinear terms (rc Fc, rv sigma2) are linearised correctly. The filter is linear: the
+    // filtered model0 is the prediction the fit already scored, less the filtered columns.
+    let theta0: Vec<f64> = params.iter().map(|q| theta_of(m, *q)).collect();
+    let offset_f: Vec<f64> = (0..n)
+        .map(|i| {
+            let j_theta0: f64 = (0..k).map(|j| theta0[j] * cols_f[j][i]).sum();
+            prediction[i] - j_theta0
+        })
+        .collect();
     for c in cols_f.iter_mut() {
         if c.iter().any(|v| !v.is_finite()) {
             c.iter_mut().for_each(|v| *v = 0.0);

@@ -47,6 +47,9 @@ pub struct Prepared {
     pub v_step: Vec<f64>,
     /// Measured force after the parallel filter \[N\].
     pub force: Vec<f64>,
+    /// The acceleration and the velocity after the parallel filter (the inertia's and the
+    /// linear viscous term's regression columns, the same for every model: filtered once).
+    pub motion_filtered: [Vec<f64>; 2],
     /// Chamber pressure signal \[Pa\]: `p_a + p_b`, or the one chamber recorded.
     pub pressure_sum: Option<Vec<f64>>,
     /// Oil temperature \[degC\], if recorded.
@@ -188,6 +191,9 @@ impl Prepared {
             ));
         }
         let force = by_segment(&parallel, &rec.force);
+        let [a_f, v_f]: [Vec<f64>; 2] = segmented(&parallel, &segments, &[&a, &v])
+            .try_into()
+            .unwrap_or_else(|_| [vec![0.0; n], vec![0.0; n]]);
         let mut weight: Vec<f64> = v
             .iter()
             .map(|s| if s.abs() >= STUCK_SPEED { 1.0 } else { 0.0 })
@@ -244,6 +250,7 @@ impl Prepared {
             a,
             v_step,
             force,
+            motion_filtered: [a_f, v_f],
             pressure_sum,
             temperature,
             parallel,
@@ -358,6 +365,27 @@ pub struct Simulation {
 impl AxisModel {
     /// Runs the friction model (the core's exact step) along the measured motion.
     pub fn simulate(&self, p: &Prepared) -> Simulation {
+        self.simulate_given(p, None)
+    }
+
+    /// The Stribeck decay `s(v)` of this model at each sample's step velocity (see
+    /// `FrictionModel::stribeck_decay`): the same for every model with this one's `vs` and
+    /// shape, whatever its levels.
+    pub fn stribeck_decay(&self, p: &Prepared) -> Vec<f64> {
+        p.v_step
+            .iter()
+            .map(|&v| self.friction.stribeck_decay(v))
+            .collect()
+    }
+
+    /// [`Self::simulate`] with the Stribeck decay given ([`Self::stribeck_decay`] of a model
+    /// with the same `vs` and shape; the result is the same bit for bit): a fit that moves
+    /// only the levels evaluates it once, not once per model.
+    pub fn simulate_with_decay(&self, p: &Prepared, stribeck_decay: &[f64]) -> Simulation {
+        self.simulate_given(p, Some(stribeck_decay))
+    }
+
+    fn simulate_given(&self, p: &Prepared, stribeck_decay: Option<&[f64]>) -> Simulation {
         let n = p.len();
         let reference = self.friction.effects.reference_conditions();
         let mut out = Simulation {
@@ -373,9 +401,14 @@ impl AxisModel {
             for i in r.clone() {
                 let c = p.conditions(i, &reference);
                 let v = p.v_step[i];
-                let (f, g) = self
-                    .friction
-                    .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt);
+                let (f, g) = match stribeck_decay {
+                    Some(d) => self
+                        .friction
+                        .step_split_with_decay(&mut st, v, p.v[i], &c, p.dt, d[i]),
+                    None => self
+                        .friction
+                        .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt),
+                };
                 out.friction.push(f);
                 out.bristle.push((sigma0 * st.z / g).clamp(-1.0, 1.0));
                 out.dwell.push(st.dwell_time);

@@ -80,10 +80,138 @@ impl LowPass {
         Self { sections }
     }
 
+    /// Samples after which a pass started in the wrong state has forgotten it: the slowest
+    /// pole's transient `r^W` is below 1e-22 of the signal (far below f64's rounding), so a
+    /// recursion started `W` samples early, in the steady state of its first input, joins the
+    /// exact one within rounding. A biquad's complex pole pair has radius `sqrt(a2)`.
+    fn memory_samples(&self) -> usize {
+        let r = self
+            .sections
+            .iter()
+            .map(|s| s.a[1].abs().sqrt())
+            .fold(0.0f64, f64::max);
+        if r <= 0.0 {
+            return 1;
+        }
+        // an unstable or non-finite pole never forgets: no chunks
+        if r.is_nan() || r >= 1.0 {
+            return usize::MAX;
+        }
+        // a cascade of two sections: allow the polynomial factor of a repeated pole as well
+        ((-22.0 * std::f64::consts::LN_10) / r.ln() * 1.2).ceil() as usize + 8
+    }
+
     /// Zero-phase filtering of several signals of the same length at once. The recursions of
     /// different signals are independent, so running them in lock-step lets the CPU overlap
     /// them (one serial biquad chain per signal would leave it waiting on each result).
+    ///
+    /// A single long signal is cut into chunks that run side by side instead
+    /// (`filtfilt_chunked`): within rounding of the one long recursion, not bit for
+    /// bit, and 1.7x faster (measured on 60 000 samples). With two signals or more the copies
+    /// chunking needs cost more than it gains.
     pub fn filtfilt_many(&self, xs: &[&[f64]]) -> Vec<Vec<f64>> {
+        if let [x] = xs {
+            let plan = Chunks::plan(x.len() + 2 * Self::padding(x.len()), self.memory_samples());
+            if plan.count > 1 {
+                return vec![self.filtfilt_chunked(x, &plan)];
+            }
+        }
+        self.filtfilt_lockstep(xs)
+    }
+
+    /// Samples added at each end by odd reflection.
+    fn padding(n: usize) -> usize {
+        n.saturating_sub(1).min(300)
+    }
+
+    /// [`Self::filtfilt_many`] of one signal, cut into `plan.count` runs in lock-step: every
+    /// run but the first starts [`Self::memory_samples`] early in the steady state of its
+    /// first input and keeps only what follows, where it equals the one long recursion
+    /// within rounding (the first run is that recursion, bit for bit).
+    fn filtfilt_chunked(&self, x: &[f64], plan: &Chunks) -> Vec<f64> {
+        let n = x.len();
+        let pad = Self::padding(n);
+        let mut y = Vec::with_capacity(n + 2 * pad);
+        y.extend((0..pad).map(|i| 2.0 * x[0] - x[pad - i]));
+        y.extend_from_slice(x);
+        y.extend((0..pad).map(|i| 2.0 * x[n - 1] - x[n - 2 - i]));
+        for backward in [false, true] {
+            self.pass(&mut y, plan, backward);
+        }
+        y[pad..pad + n].to_vec()
+    }
+
+    /// One pass (forward, or backward over the reversed signal) over every run of `y` in
+    /// lock-step, in place. In a backward pass run `c` covers the mirrored stretch of the
+    /// signal, read and written back in reverse.
+    fn pass(&self, y: &mut [f64], plan: &Chunks, backward: bool) {
+        let (m, len) = (plan.m, plan.run_len);
+        let groups = plan.count.div_ceil(LANES);
+        let stretch = |c: usize| {
+            let a = plan.run_start(c);
+            if backward {
+                m - a - len..m - a
+            } else {
+                a..a + len
+            }
+        };
+        // interleaved layout: run-sample-major, run `c` in lane `c % LANES` of group
+        // `c / LANES` (the last group padded with zero lanes, which stay zero)
+        let mut buf = vec![[0.0; LANES]; len * groups];
+        for c in 0..plan.count {
+            let (g, l) = (c / LANES, c % LANES);
+            let src = &y[stretch(c)];
+            let cells = buf[g..].iter_mut().step_by(groups);
+            if backward {
+                cells.zip(src.iter().rev()).for_each(|(b, v)| b[l] = *v);
+            } else {
+                cells.zip(src).for_each(|(b, v)| b[l] = *v);
+            }
+        }
+        self.recurse(buf.chunks_exact_mut(groups), groups);
+        // each run writes back what it keeps (a suffix of the run)
+        for c in 0..plan.count {
+            let (g, l) = (c / LANES, c % LANES);
+            let skip = plan.skipped(c);
+            let dst = &mut y[stretch(c)];
+            let cells = buf[g..].iter().step_by(groups).skip(skip);
+            if backward {
+                let keep = len - skip;
+                cells
+                    .zip(dst[..keep].iter_mut().rev())
+                    .for_each(|(b, v)| *v = b[l]);
+            } else {
+                cells.zip(&mut dst[skip..]).for_each(|(b, v)| *v = b[l]);
+            }
+        }
+    }
+
+    /// The fused sections over interleaved rows (one row per sample, `groups` lane groups
+    /// each), in the order given, in place. The second section's recursion on one sample
+    /// overlaps the first's on the next (the same arithmetic, in the same order, as one
+    /// section after the other), and the lanes of a group are one vector instruction
+    /// (lane-wise IEEE arithmetic: bit for bit the scalar recursion). Each section starts in
+    /// the steady state of its first input sample.
+    fn recurse<'a>(&self, mut rows: impl Iterator<Item = &'a mut [[f64; LANES]]>, groups: usize) {
+        let [first, second] = &self.sections;
+        let mut state = vec![[[[0.0; LANES]; 2]; 2]; groups];
+        if let Some(row) = rows.next() {
+            for (x, [s0, s1]) in row.iter_mut().zip(state.iter_mut()) {
+                *s0 = first.steady_state_lanes(x);
+                let y = first.step_lanes(s0, x);
+                *s1 = second.steady_state_lanes(&y);
+                *x = second.step_lanes(s1, &y);
+            }
+        }
+        for row in rows {
+            for (x, [s0, s1]) in row.iter_mut().zip(state.iter_mut()) {
+                *x = second.step_lanes(s1, &first.step_lanes(s0, x));
+            }
+        }
+    }
+
+    /// [`Self::filtfilt_many`] with every signal one lane, in place in one interleaved buffer.
+    fn filtfilt_lockstep(&self, xs: &[&[f64]]) -> Vec<Vec<f64>> {
         let k = xs.len();
         let n = xs.first().map_or(0, |x| x.len());
         if xs.iter().any(|x| x.len() != n) {
@@ -92,7 +220,7 @@ impl LowPass {
         if n < 3 {
             return xs.iter().map(|x| x.to_vec()).collect();
         }
-        let pad = (n - 1).min(300);
+        let pad = Self::padding(n);
         let m = n + 2 * pad;
         // interleaved layout: sample-major, the signals of a sample side by side in lanes of
         // LANES (the last lane group padded with zero signals, which stay zero); each end
@@ -112,36 +240,8 @@ impl LowPass {
                 buf[at(pad + n + i)][l] = 2.0 * x[n - 1] - x[n - 2 - i];
             }
         }
-        // The sections run fused, sample by sample: the second section's recursion on one
-        // sample overlaps the first's on the next (the same arithmetic, in the same order, as
-        // one section after the other), and the lanes of a group are one vector instruction
-        // (lane-wise IEEE arithmetic: bit for bit the scalar recursion). Each section starts
-        // in the steady state of its first input sample.
-        let [first, second] = &self.sections;
-        let mut state = vec![[[[0.0; LANES]; 2]; 2]; groups];
-        let start = |row: &mut [[f64; LANES]], state: &mut [[[[f64; LANES]; 2]; 2]]| {
-            for (x, [s0, s1]) in row.iter_mut().zip(state.iter_mut()) {
-                *s0 = first.steady_state_lanes(x);
-                let y = first.step_lanes(s0, x);
-                *s1 = second.steady_state_lanes(&y);
-                *x = second.step_lanes(s1, &y);
-            }
-        };
-        let run = |row: &mut [[f64; LANES]], state: &mut [[[[f64; LANES]; 2]; 2]]| {
-            for (x, [s0, s1]) in row.iter_mut().zip(state.iter_mut()) {
-                *x = second.step_lanes(s1, &first.step_lanes(s0, x));
-            }
-        };
-        let mut rows = buf.chunks_exact_mut(groups);
-        if let Some(row) = rows.next() {
-            start(row, &mut state);
-        }
-        rows.for_each(|row| run(row, &mut state));
-        let mut rows = buf.chunks_exact_mut(groups).rev();
-        if let Some(row) = rows.next() {
-            start(row, &mut state);
-        }
-        rows.for_each(|row| run(row, &mut state));
+        self.recurse(buf.chunks_exact_mut(groups), groups);
+        self.recurse(buf.chunks_exact_mut(groups).rev(), groups);
         (0..k)
             .map(|j| {
                 let (g, l) = (j / LANES, j % LANES);
@@ -153,6 +253,63 @@ impl LowPass {
     /// Zero-phase filtering of `x` (returns a new vector of the same length).
     pub fn filtfilt(&self, x: &[f64]) -> Vec<f64> {
         self.filtfilt_many(&[x]).pop().unwrap_or_default()
+    }
+}
+
+/// How a pass cuts each signal of `m` samples into `count` runs of `run_len` samples that
+/// cover it: run 0 starts at 0 and keeps all it computes; every later run starts `memory`
+/// samples before the part it keeps (the last one earlier still: it ends at the signal's end).
+#[derive(Clone, Copy, Debug)]
+struct Chunks {
+    count: usize,
+    run_len: usize,
+    memory: usize,
+    m: usize,
+}
+
+impl Chunks {
+    /// Lanes in flight that keep the CPU's pipelines busy (measured on one signal of 60 000 samples: 6 runs, 0.47 ms against 0.81 ms for the one long recursion; 4 or 8 runs 0.51 ms).
+    const LANES_WANTED: usize = 6;
+
+    fn plan(m: usize, memory: usize) -> Self {
+        let one = Self {
+            count: 1,
+            run_len: m,
+            memory: 0,
+            m,
+        };
+        // each run keeps at least three times what it spends on forgetting its start
+        let affordable = m / memory.saturating_mul(4).max(1);
+        let count = Self::LANES_WANTED.min(affordable);
+        if count < 2 {
+            return one;
+        }
+        Self {
+            count,
+            // count runs of L overlapping by `memory`: count L - (count - 1) memory >= m
+            run_len: (m + (count - 1) * memory).div_ceil(count),
+            memory,
+            m,
+        }
+    }
+
+    /// Where run `c` starts in the signal.
+    fn run_start(&self, c: usize) -> usize {
+        if c + 1 == self.count {
+            self.m - self.run_len
+        } else {
+            c * (self.run_len - self.memory)
+        }
+    }
+
+    /// How many of run `c`'s first samples it does not keep: up to where the previous run's
+    /// kept part ended.
+    fn skipped(&self, c: usize) -> usize {
+        if c == 0 {
+            0
+        } else {
+            self.run_start(c - 1) + self.run_len - self.run_start(c)
+        }
     }
 }
 
@@ -234,6 +391,71 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn chunks_cover_every_sample_once_after_forgetting_their_start() {
+        for memory in [1, 50, 1272] {
+            for m in [4 * memory + 1, 6000, 60_601, 123_457] {
+                let plan = Chunks::plan(m, memory);
+                assert!(plan.count >= 1 && plan.count <= Chunks::LANES_WANTED);
+                let mut next = 0;
+                for c in 0..plan.count {
+                    let start = plan.run_start(c);
+                    assert!(
+                        start + plan.run_len <= m,
+                        "run {c} of {m} leaves the signal"
+                    );
+                    let kept_from = start + plan.skipped(c);
+                    assert_eq!(kept_from, next, "m {m}, run {c}: a gap or an overlap");
+                    if c > 0 {
+                        assert!(plan.skipped(c) >= memory, "run {c} keeps samples too early");
+                    }
+                    next = start + plan.run_len;
+                }
+                assert_eq!(next, m, "m {m}: the runs end before the signal");
+            }
+        }
+    }
+
+    #[test]
+    fn a_chunked_signal_is_the_long_recursion_within_rounding() {
+        let f = LowPass::butterworth4(20.0, 1000.0);
+        let n = 60_000;
+        // steps, ramps and a sine: a state error at a run's start would show for ~1000 samples
+        let x: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 * 1e-3;
+                let step = if (i / 7000) % 2 == 0 { 400.0 } else { -250.0 };
+                step + 30.0 * (11.0 * t).sin() + 5.0 * t
+            })
+            .collect();
+        let plan = Chunks::plan(n + 2 * LowPass::padding(n), f.memory_samples());
+        assert!(plan.count > 1, "the test must exercise the chunks");
+        let y = f.filtfilt(&x);
+        let r = reference_filtfilt(&f, &x);
+        let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let worst = y
+            .iter()
+            .zip(&r)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 1e-12 * scale,
+            "chunked filter off by {worst:e} of {scale}"
+        );
+        // the memory is what makes it right: runs that start 10 samples early are visibly off
+        let careless = Chunks::plan(n + 2 * LowPass::padding(n), 10);
+        let y = f.filtfilt_chunked(&x, &careless);
+        let worst = y
+            .iter()
+            .zip(&r)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst > 1e-3 * scale,
+            "a 10-sample memory should show: {worst:e}"
+        );
     }
 
     #[test]
