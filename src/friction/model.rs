@@ -275,7 +275,8 @@ impl<T: ModelFloat> FrictionModel<T> {
 
     /// [`Self::step_split_with_curve`] with the Stribeck decay at the mean velocity given:
     /// `stribeck_decay` must be [`Self::stribeck_decay`]`(mean_velocity)` of a model with this
-    /// one's `vs` and shape (then the result is the same, bit for bit). An inverse model that
+    /// one's `vs` and shape (then the result is the same, bit for bit; a value outside `[0, 1]`,
+    /// NaN included, is not used: the step computes the decay itself). An inverse model that
     /// refits the levels many times along one record computes the decay once per sample
     /// instead of once per sample and model.
     pub fn step_split_with_decay(
@@ -345,9 +346,10 @@ impl<T: ModelFloat> FrictionModel<T> {
         let (forward, backward) = self.levels_by_direction(c, s.dwell_time);
         let at = |v: T| if v >= T::zero() { forward } else { backward };
         let l = at(mean_velocity);
+        // a given decay outside [0, 1] (NaN included) breaks the contract: computed instead
         let decay = match stribeck_decay {
-            Some(d) => d,
-            None => self.stribeck_decay(mean_velocity),
+            Some(d) if (T::zero()..=T::one()).contains(&d) => d,
+            _ => self.stribeck_decay(mean_velocity),
         };
         let g = Self::curve_from_decay(&l, decay);
         let sigma0 = self.params.bristle_stiffness();
@@ -469,6 +471,14 @@ mod tests {
             assert_eq!(fa.0.to_bits(), fb.0.to_bits(), "force at {i}");
             assert_eq!(fa.1.to_bits(), fb.1.to_bits(), "g at {i}");
             assert_eq!(a, b, "state at {i}");
+        }
+        // a decay that breaks the contract (NaN, out of [0, 1]) is computed instead, never used
+        for bad in [f64::NAN, 1.5, -0.2, f64::INFINITY] {
+            let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
+            let fa = m.step_split_with_curve(&mut a, 0.001, 0.001, &REF, 1e-3);
+            let fb = m.step_split_with_decay(&mut b, 0.001, 0.001, &REF, 1e-3, bad);
+            assert_eq!(fa.0.to_bits(), fb.0.to_bits(), "decay {bad}");
+            assert_eq!(a, b, "decay {bad}");
         }
         // and the decay is the curve's: g = Fc + (Fs - Fc) s(v) at the levels
         let l = m.levels(0.002, &REF, 0.0);
