@@ -95,7 +95,7 @@ impl<T: ModelFloat> FrictionModel<T> {
     }
 
     /// What the conditions and the dwell time do to the levels, whatever the direction.
-    #[inline]
+    #[inline(always)]
     fn condition_factors(&self, c: &Conditions<T>, dwell_time: T) -> ConditionFactors<T> {
         let e = &self.effects;
         ConditionFactors {

@@ -752,7 +752,9 @@ impl<'a> Current<'a> {
     }
 }
 
-/// Scores every effect not yet in `current`, best first (skipped ones last).
+/// Scores every effect not yet in `current`, best first (skipped ones last). A significant
+/// effect whose model contains a simpler significant one as a special case ([`NESTED`]) stays
+/// significant only if it is so on top of the simpler one (`prefer_nested`).
 pub fn rank_candidates(
     p: &Prepared,
     brk: &Breakaway,
@@ -760,10 +762,87 @@ pub fn rank_candidates(
     fixed_mass: Option<f64>,
     n_eff: f64,
 ) -> Vec<Candidate> {
+    let mut out = rank_among(p, brk, current, fixed_mass, n_eff, None);
+    prefer_nested(&mut out, p, brk, fixed_mass, n_eff);
+    out
+}
+
+/// Effects whose model contains another's as a special case: (larger, nested). An
+/// asymmetry with Coulomb and static ratios `F0 / Fc` and `F0 / Fs` (and no viscous one) is an
+/// offset `F0` while sliding and at breakaway, in both directions; the offset has one
+/// parameter where the asymmetry has three.
+pub const NESTED: [(EffectKind, EffectKind); 1] = [(EffectKind::Asymmetry, EffectKind::Offset)];
+
+/// Parsimony between nested effects: when the first significant candidate contains another
+/// significant one ([`NESTED`]) and does not already cut that one's error by
+/// [`MIN_ERROR_CUT`], the simpler one is added as a stage would add it ([`stage_fit`]) and
+/// the larger one is judged again on top of it, by the same rule. If it
+/// is not significant there, the simpler effect explains the record: the larger one is
+/// marked with a caution and is neither detected nor significant. (Scored as candidates
+/// from the current model, the two were often judged on fits that had not converged: on an
+/// independent offset record the asymmetry candidate scored 1.38 % against the offset's
+/// 1.67 %, fitted as stages 1.17 % against 0.57 %.)
+fn prefer_nested(
+    out: &mut [Candidate],
+    p: &Prepared,
+    brk: &Breakaway,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) {
+    let Some(first) = out.iter().position(|c| c.significant) else {
+        return;
+    };
+    for (larger, nested) in NESTED {
+        if out[first].kind != larger {
+            continue;
+        }
+        let Some(simpler) = out
+            .iter()
+            .find(|c| c.kind == nested && c.significant)
+            .and_then(|c| c.fit.as_ref())
+        else {
+            continue;
+        };
+        // already as candidates the larger effect cuts the simpler one's error by the
+        // decision's cut: it is not the simpler one in disguise (and the check, two stage
+        // fits, is spent only where the two are close)
+        let larger_fit = out[first].fit.as_ref();
+        if larger_fit.is_some_and(|f| f.rel_err_pct <= (1.0 - MIN_ERROR_CUT) * simpler.rel_err_pct)
+        {
+            continue;
+        }
+        let with_nested = stage_fit(nested, simpler, p, fixed_mass, n_eff);
+        let on_top = rank_among(p, brk, &with_nested, fixed_mass, n_eff, Some(larger));
+        if let Some(c) = on_top.first().filter(|c| !c.significant) {
+            let why = format!(
+                "it contains {nested} as a special case, and with {nested} added ({:.2} %) it cuts the error by {:.0} % only{}: the simpler {nested} explains the record",
+                with_nested.rel_err_pct,
+                100.0 * c.error_cut,
+                if c.detected { "" } else { " (and the evidence is weak)" },
+            );
+            let l = &mut out[first];
+            l.significant = false;
+            l.detected = false;
+            l.caution = Some(why);
+        }
+    }
+}
+
+/// [`rank_candidates`] without the parsimony between nested effects, of every effect not yet
+/// in `current` or of `only` that one.
+fn rank_among(
+    p: &Prepared,
+    brk: &Breakaway,
+    current: &Fit,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+    only: Option<EffectKind>,
+) -> Vec<Candidate> {
     let reference = Current::new(current, brk);
     let mut out: Vec<Candidate> = EFFECTS
         .par_iter()
         .filter(|e| !current.model.friction.effects.has(e.kind))
+        .filter(|e| only.is_none_or(|k| k == e.kind))
         .map(|info| score(p, brk, &reference, info, fixed_mass, n_eff))
         .collect();
     let by_bic = |a: &Candidate, b: &Candidate| {
@@ -1240,25 +1319,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         let fit = if opts.given.is_some() {
             fit
         } else {
-            // two starts: from the candidate (the previous model plus the effect), and from
-            // the static table plus the effect. The previous model may have bent its Stribeck
-            // curve to mimic the missing effect (a hump with vs at the top speed mimicking a
-            // sub-linear viscous law), a local minimum the effect's own search cannot leave.
-            // (independent: run side by side)
-            let (from_candidate, from_table) = rayon::join(
-                || polish(&fit, Some(e), &p, fixed_mass, n_eff, 2, true),
-                || {
-                    let mut restart = static_seed(&p, fixed_mass);
-                    restart.friction.effects = fit.model.friction.effects;
-                    let restart = fit::refit(&restart, &p, fixed_mass, n_eff);
-                    polish(&restart, Some(e), &p, fixed_mass, n_eff, 2, true)
-                },
-            );
-            if from_table.rss < from_candidate.rss {
-                from_table
-            } else {
-                from_candidate
-            }
+            stage_fit(e, &fit, &p, fixed_mass, n_eff)
         };
         let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);
         stages.push(stage(Some(e), fit, &p, &brk, fixed_mass, n_eff, rank));
@@ -1272,6 +1333,34 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         tables,
         breakaway: brk,
     })
+}
+
+/// The model with effect `e` added, fitted as a stage: from two starts, the candidate's fit
+/// (the previous model plus the effect) and the static table plus the effect. The previous
+/// model may have bent its Stribeck curve to mimic the missing effect (a hump with vs at the
+/// top speed mimicking a sub-linear viscous law), a local minimum the effect's own search
+/// cannot leave. The two starts are independent and run side by side.
+fn stage_fit(
+    e: EffectKind,
+    candidate: &Fit,
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) -> Fit {
+    let (from_candidate, from_table) = rayon::join(
+        || polish(candidate, Some(e), p, fixed_mass, n_eff, 2, true),
+        || {
+            let mut restart = static_seed(p, fixed_mass);
+            restart.friction.effects = candidate.model.friction.effects;
+            let restart = fit::refit(&restart, p, fixed_mass, n_eff);
+            polish(&restart, Some(e), p, fixed_mass, n_eff, 2, true)
+        },
+    );
+    if from_table.rss < from_candidate.rss {
+        from_table
+    } else {
+        from_candidate
+    }
 }
 
 fn stage(
