@@ -170,7 +170,7 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// The Stribeck curve's decay `s(v) = e^{-(|v| / vs)^delta}` (`delta` = 2 without
     /// `stribeck_shape`), in `[0, 1]`. It depends on the velocity, `vs` and `delta` only, not
     /// on the levels: a caller that steps many models sharing them along one velocity record
-    /// computes it once per sample (see [`Self::step_split_with_decay`]).
+    /// computes it once per sample (see [`Self::step_split_with_curve`]).
     #[inline]
     pub fn stribeck_decay(&self, velocity: T) -> T {
         let r = (velocity / self.params.stribeck_velocity()).abs();
@@ -243,6 +243,12 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// As [`Self::step_split`], also returning the Stribeck level `g(v)` \[N\] the step used
     /// (at the mean velocity, after the dwell clock moved): an inverse model reads the
     /// bristle's loading `sigma0 z / g` from it without evaluating the levels a second time.
+    ///
+    /// `stribeck_decay`, when given, is [`Self::stribeck_decay`]`(mean_velocity)` of a model
+    /// with this one's `vs` and shape (then the result is the same, bit for bit; a value
+    /// outside `[0, 1]`, NaN included, is not used: the step computes the decay itself). An
+    /// inverse model that refits the levels many times along one record computes the decay
+    /// once per sample instead of once per sample and model.
     pub fn step_split_with_curve(
         &self,
         s: &mut FrictionState<T>,
@@ -250,8 +256,17 @@ impl<T: ModelFloat> FrictionModel<T> {
         velocity: T,
         c: &Conditions<T>,
         dt: T,
+        stribeck_decay: Option<T>,
     ) -> (T, T) {
-        self.step_driven_with_curve(s, mean_velocity, mean_velocity, velocity, c, dt)
+        self.step_driven_with_curve(
+            s,
+            mean_velocity,
+            mean_velocity,
+            velocity,
+            c,
+            dt,
+            stribeck_decay,
+        )
     }
 
     /// As [`Self::step_split`], with the bristle equation driven by `drive`
@@ -269,54 +284,16 @@ impl<T: ModelFloat> FrictionModel<T> {
         c: &Conditions<T>,
         dt: T,
     ) -> T {
-        self.step_driven_with_curve(s, drive, mean_velocity, velocity, c, dt)
+        self.step_driven_with_curve(s, drive, mean_velocity, velocity, c, dt, None)
             .0
     }
 
-    /// [`Self::step_split_with_curve`] with the Stribeck decay at the mean velocity given:
-    /// `stribeck_decay` must be [`Self::stribeck_decay`]`(mean_velocity)` of a model with this
-    /// one's `vs` and shape (then the result is the same, bit for bit; a value outside `[0, 1]`,
-    /// NaN included, is not used: the step computes the decay itself). An inverse model that
-    /// refits the levels many times along one record computes the decay once per sample
-    /// instead of once per sample and model.
-    pub fn step_split_with_decay(
-        &self,
-        s: &mut FrictionState<T>,
-        mean_velocity: T,
-        velocity: T,
-        c: &Conditions<T>,
-        dt: T,
-        stribeck_decay: T,
-    ) -> (T, T) {
-        self.step_driven_given(
-            s,
-            mean_velocity,
-            mean_velocity,
-            velocity,
-            c,
-            dt,
-            Some(stribeck_decay),
-        )
-    }
-
-    /// [`Self::step_driven`] and the Stribeck level `g(v)` \[N\] of its bristle step.
-    #[inline]
-    fn step_driven_with_curve(
-        &self,
-        s: &mut FrictionState<T>,
-        drive: T,
-        mean_velocity: T,
-        velocity: T,
-        c: &Conditions<T>,
-        dt: T,
-    ) -> (T, T) {
-        self.step_driven_given(s, drive, mean_velocity, velocity, c, dt, None)
-    }
-
-    /// The step itself, with the Stribeck decay at the mean velocity computed here or given.
+    /// [`Self::step_driven`] and the Stribeck level `g(v)` \[N\] of its bristle step, the
+    /// Stribeck decay at the mean velocity computed here or given (see
+    /// [`Self::step_split_with_curve`]).
     #[inline]
     #[allow(clippy::too_many_arguments)]
-    fn step_driven_given(
+    fn step_driven_with_curve(
         &self,
         s: &mut FrictionState<T>,
         drive: T,
@@ -465,9 +442,9 @@ mod tests {
                 position: 0.01 * t,
                 ..REF
             };
-            let fa = m.step_split_with_curve(&mut a, v_mean, v_end, &c, 1e-3);
+            let fa = m.step_split_with_curve(&mut a, v_mean, v_end, &c, 1e-3, None);
             let d = m.stribeck_decay(v_mean);
-            let fb = m.step_split_with_decay(&mut b, v_mean, v_end, &c, 1e-3, d);
+            let fb = m.step_split_with_curve(&mut b, v_mean, v_end, &c, 1e-3, Some(d));
             assert_eq!(fa.0.to_bits(), fb.0.to_bits(), "force at {i}");
             assert_eq!(fa.1.to_bits(), fb.1.to_bits(), "g at {i}");
             assert_eq!(a, b, "state at {i}");
@@ -475,8 +452,8 @@ mod tests {
         // a decay that breaks the contract (NaN, out of [0, 1]) is computed instead, never used
         for bad in [f64::NAN, 1.5, -0.2, f64::INFINITY] {
             let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
-            let fa = m.step_split_with_curve(&mut a, 0.001, 0.001, &REF, 1e-3);
-            let fb = m.step_split_with_decay(&mut b, 0.001, 0.001, &REF, 1e-3, bad);
+            let fa = m.step_split_with_curve(&mut a, 0.001, 0.001, &REF, 1e-3, None);
+            let fb = m.step_split_with_curve(&mut b, 0.001, 0.001, &REF, 1e-3, Some(bad));
             assert_eq!(fa.0.to_bits(), fb.0.to_bits(), "decay {bad}");
             assert_eq!(a, b, "decay {bad}");
         }
@@ -696,7 +673,7 @@ mod tests {
             let v_mean = 0.004 * (6.0 * t).sin().powi(3);
             let v_now = 0.004 * (6.0 * (t + 1e-3)).sin().powi(3);
             let f = m.step_split(&mut a, v_mean, v_now, &REF, 1e-3);
-            let (f2, g) = m.step_split_with_curve(&mut b, v_mean, v_now, &REF, 1e-3);
+            let (f2, g) = m.step_split_with_curve(&mut b, v_mean, v_now, &REF, 1e-3, None);
             assert_eq!(f.to_bits(), f2.to_bits(), "step {i}");
             assert_eq!(a, b);
             let expected = m.stribeck_curve(v_mean, &m.levels(v_mean, &REF, b.dwell_time));

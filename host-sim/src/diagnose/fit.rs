@@ -25,6 +25,7 @@ use crate::signal::integrated_autocorrelation_time;
 use lugre_servo::friction::effects as fx;
 use lugre_servo::friction::LugreParams;
 use nalgebra::{DMatrix, DVector};
+use std::borrow::Cow;
 
 /// A linear parameter of the fit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -429,7 +430,7 @@ fn theta_of(m: &AxisModel, param: Param) -> f64 {
 /// The Gauss-Newton linearisation of a model on a record: what a Levenberg-Marquardt step
 /// needs and what does not depend on its damping. A rejected step retries from here with a
 /// larger damping instead of re-simulating and re-filtering the same columns.
-struct Linearisation {
+struct Linearisation<'p> {
     /// The model linearised about.
     model: AxisModel,
     /// The regression's parameters, in column order.
@@ -445,7 +446,7 @@ struct Linearisation {
     /// Pseudo-inverse of `xtx`: the standard errors come from the undamped problem.
     cov: DMatrix<f64>,
     /// The filtered columns, kept for the residual of each solution.
-    cols_f: Vec<Vec<f64>>,
+    cols_f: Vec<Cow<'p, [f64]>>,
     /// The filtered target `force - (model0 - J theta0)` \[N\].
     target: Vec<f64>,
     /// The parameters' physical box about `model`.
@@ -458,7 +459,7 @@ struct Linearisation {
 }
 
 /// One Levenberg-Marquardt step with damping `mu` from a linearisation.
-fn linear_step(lin: &Linearisation, p: &Prepared, mu: f64) -> (AxisModel, Vec<Estimate>) {
+fn linear_step(lin: &Linearisation<'_>, p: &Prepared, mu: f64) -> (AxisModel, Vec<Estimate>) {
     let (params, scale) = (&lin.params, &lin.scale);
     let k = params.len();
     // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space),
@@ -518,16 +519,16 @@ fn linear_step(lin: &Linearisation, p: &Prepared, mu: f64) -> (AxisModel, Vec<Es
 // one pass over the samples fills every column: indexing reads clearer than zipped iterators
 #[allow(clippy::needless_range_loop)]
 #[allow(clippy::too_many_arguments)]
-fn linearise(
+fn linearise<'p>(
     m: &AxisModel,
     sim: &Simulation,
     prediction: &[f64],
     stribeck_decay: &[f64],
-    p: &Prepared,
+    p: &'p Prepared,
     fixed_mass: Option<f64>,
     held_viscous: Option<f64>,
     n_eff: f64,
-) -> Linearisation {
+) -> Linearisation<'p> {
     let n = p.len();
     let fr = &m.friction;
     let e = &fr.effects;
@@ -575,8 +576,8 @@ fn linearise(
     let plain_viscous =
         rv == 0.0 && e.temperature_dependence.is_none() && e.viscous_power.is_none();
     let cached = |q: &Param| match q {
-        Param::Mass => Some(&p.motion_filtered[0]),
-        Param::Viscous if plain_viscous => Some(&p.motion_filtered[1]),
+        Param::Mass => Some(p.acceleration_filtered.as_slice()),
+        Param::Viscous if plain_viscous => Some(p.velocity_filtered.as_slice()),
         _ => None,
     };
     // the other columns are built here, sample by sample
@@ -645,6 +646,7 @@ fn linearise(
         let scale_per_fs = -(load_scale - 1.0) / fs;
         for &(j, prm) in &built {
             cols[j][i] = match prm {
+                // filtered with the record (`cached`): never built here
                 Param::Mass => p.a[i],
                 Param::Coulomb => {
                     tau_c
@@ -669,11 +671,12 @@ fn linearise(
     }
     let to_filter: Vec<&[f64]> = built.iter().map(|&(j, _)| cols[j].as_slice()).collect();
     let mut filtered = p.filter_many(&to_filter).into_iter();
-    let mut cols_f: Vec<Vec<f64>> = params
+    // the cached columns are borrowed, not copied
+    let mut cols_f: Vec<Cow<'p, [f64]>> = params
         .iter()
         .map(|q| match cached(q) {
-            Some(c) => c.clone(),
-            None => filtered.next().unwrap_or_default(),
+            Some(c) => Cow::Borrowed(c),
+            None => Cow::Owned(filtered.next().unwrap_or_default()),
         })
         .collect();
     // Gauss-Newton: force ~ model0 + J (theta - theta0), so regress
@@ -689,7 +692,7 @@ fn linearise(
         .collect();
     for c in cols_f.iter_mut() {
         if c.iter().any(|v| !v.is_finite()) {
-            c.iter_mut().for_each(|v| *v = 0.0);
+            c.to_mut().iter_mut().for_each(|v| *v = 0.0);
         }
     }
     let target: Vec<f64> = p.force.iter().zip(&offset_f).map(|(f, q)| f - q).collect();

@@ -47,9 +47,11 @@ pub struct Prepared {
     pub v_step: Vec<f64>,
     /// Measured force after the parallel filter \[N\].
     pub force: Vec<f64>,
-    /// The acceleration and the velocity after the parallel filter (the inertia's and the
-    /// linear viscous term's regression columns, the same for every model: filtered once).
-    pub motion_filtered: [Vec<f64>; 2],
+    /// Acceleration after the parallel filter [m/s^2]: the inertia's regression column, the
+    /// same for every model (filtered once, with the record).
+    pub acceleration_filtered: Vec<f64>,
+    /// Velocity after the parallel filter [m/s]: the linear viscous term's regression column.
+    pub velocity_filtered: Vec<f64>,
     /// Chamber pressure signal \[Pa\]: `p_a + p_b`, or the one chamber recorded.
     pub pressure_sum: Option<Vec<f64>>,
     /// Oil temperature \[degC\], if recorded.
@@ -191,9 +193,11 @@ impl Prepared {
             ));
         }
         let force = by_segment(&parallel, &rec.force);
-        let [a_f, v_f]: [Vec<f64>; 2] = segmented(&parallel, &segments, &[&a, &v])
-            .try_into()
-            .unwrap_or_else(|_| [vec![0.0; n], vec![0.0; n]]);
+        let mut motion = segmented(&parallel, &segments, &[&a, &v]).into_iter();
+        let (acceleration_filtered, velocity_filtered) = (
+            motion.next().unwrap_or_default(),
+            motion.next().unwrap_or_default(),
+        );
         let mut weight: Vec<f64> = v
             .iter()
             .map(|s| if s.abs() >= STUCK_SPEED { 1.0 } else { 0.0 })
@@ -250,7 +254,8 @@ impl Prepared {
             a,
             v_step,
             force,
-            motion_filtered: [a_f, v_f],
+            acceleration_filtered,
+            velocity_filtered,
             pressure_sum,
             temperature,
             parallel,
@@ -401,14 +406,10 @@ impl AxisModel {
             for i in r.clone() {
                 let c = p.conditions(i, &reference);
                 let v = p.v_step[i];
-                let (f, g) = match stribeck_decay {
-                    Some(d) => self
-                        .friction
-                        .step_split_with_decay(&mut st, v, p.v[i], &c, p.dt, d[i]),
-                    None => self
-                        .friction
-                        .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt),
-                };
+                let decay = stribeck_decay.map(|d| d[i]);
+                let (f, g) = self
+                    .friction
+                    .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt, decay);
                 out.friction.push(f);
                 out.bristle.push((sigma0 * st.z / g).clamp(-1.0, 1.0));
                 out.dwell.push(st.dwell_time);

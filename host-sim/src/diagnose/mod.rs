@@ -274,6 +274,10 @@ pub struct Candidate {
     /// [`rest_independent_twin`]), computed once per fit.
     #[serde(skip)]
     rest_null: Option<RestNull>,
+    /// This effect's model fitted as a stage fits it ([`stage_fit`]), when the ranking already
+    /// did (the parsimony check between nested effects): adding the effect reuses it.
+    #[serde(skip)]
+    staged: Option<Fit>,
     /// The profile interval of the nonlinear parameter excludes its "no effect" value.
     #[serde(skip)]
     pub nonlinear_excludes_null: bool,
@@ -796,10 +800,11 @@ fn prefer_nested(
         if out[first].kind != larger {
             continue;
         }
-        let Some(simpler) = out
+        let Some((j, simpler)) = out
             .iter()
-            .find(|c| c.kind == nested && c.significant)
-            .and_then(|c| c.fit.as_ref())
+            .enumerate()
+            .find(|(_, c)| c.kind == nested && c.significant)
+            .and_then(|(j, c)| Some((j, c.fit.as_ref()?)))
         else {
             continue;
         };
@@ -825,6 +830,7 @@ fn prefer_nested(
             l.detected = false;
             l.caution = Some(why);
         }
+        out[j].staged = Some(with_nested);
     }
 }
 
@@ -935,6 +941,7 @@ fn score(
         fit: None,
         nonlinear_excludes_null: false,
         rest_null: None,
+        staged: None,
     };
     if cand.skipped.is_some() {
         return cand;
@@ -1147,6 +1154,7 @@ fn judge(
         fit: Some(fit),
         nonlinear_excludes_null,
         rest_null,
+        staged: None,
     }
 }
 
@@ -1310,16 +1318,20 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
             },
         };
         let prev = &stages[stages.len() - 1];
-        let fit = prev
+        let candidate = prev
             .candidates
             .iter()
             .find(|c| c.kind == e)
-            .and_then(|c| c.fit.clone())
             .ok_or(Error::EffectAlreadyInModel(e))?;
-        let fit = if opts.given.is_some() {
-            fit
-        } else {
-            stage_fit(e, &fit, &p, fixed_mass, n_eff)
+        let fit = candidate
+            .fit
+            .as_ref()
+            .ok_or(Error::EffectAlreadyInModel(e))?;
+        let fit = match (&opts.given, &candidate.staged) {
+            (Some(_), _) => fit.clone(),
+            // the ranking's parsimony check already fitted it as a stage
+            (None, Some(staged)) => staged.clone(),
+            (None, None) => stage_fit(e, fit, &p, fixed_mass, n_eff),
         };
         let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);
         stages.push(stage(Some(e), fit, &p, &brk, fixed_mass, n_eff, rank));

@@ -55,16 +55,18 @@ pub fn fit(p: &Prepared, fixed_mass: Option<f64>) -> StaticTables {
     let bwd: Vec<f64> = p.v.iter().map(|v| -f64::from(u8::from(*v < 0.0))).collect();
     let v_fwd: Vec<f64> = p.v.iter().map(|v| v.max(0.0)).collect();
     let v_bwd: Vec<f64> = p.v.iter().map(|v| v.min(0.0)).collect();
-    let f = p.filter_many(&[&p.a, &sign, &p.v, &fwd, &bwd, &v_fwd, &v_bwd]);
+    // the acceleration and the velocity come filtered with the record
+    let f = p.filter_many(&[&sign, &fwd, &bwd, &v_fwd, &v_bwd]);
+    let (a_f, v_f) = (&p.acceleration_filtered, &p.velocity_filtered);
     let target: Vec<f64> = match fixed_mass {
-        Some(m) => p.force.iter().zip(&f[0]).map(|(y, a)| y - m * a).collect(),
+        Some(m) => p.force.iter().zip(a_f).map(|(y, a)| y - m * a).collect(),
         None => p.force.clone(),
     };
     let solve = |cols: &[&Vec<f64>]| -> (Vec<f64>, f64) {
         let with_mass = fixed_mass.is_none();
         let mut all: Vec<&Vec<f64>> = Vec::new();
         if with_mass {
-            all.push(&f[0]);
+            all.push(a_f);
         }
         all.extend_from_slice(cols);
         let k = all.len();
@@ -117,8 +119,8 @@ pub fn fit(p: &Prepared, fixed_mass: Option<f64>) -> StaticTables {
         (out, rss)
     };
     let pct = |rss: f64| 100.0 * rss.sqrt() / p.force_norm;
-    let (s, rss_s) = solve(&[&f[1], &f[2]]);
-    let (a, rss_a) = solve(&[&f[3], &f[4], &f[5], &f[6]]);
+    let (s, rss_s) = solve(&[&f[0], v_f]);
+    let (a, rss_a) = solve(&[&f[1], &f[2], &f[3], &f[4]]);
     StaticTables {
         symmetric: StaticFit {
             label: "static Coulomb + viscous",
