@@ -79,6 +79,8 @@ fn main() {
         let opts = Options { skip_final_ranking: true, ..Default::default() };
         let d = diagnose::diagnose(&rec, "x.csv", &opts).unwrap();
         let p = &d.prepared;
+        // the record's dwell clock lines up with the prepared samples
+        assert_eq!(axis.dwell_trace.as_ref().map(|d| d.0.len()), Some(p.len()));
         let truth = |ax: &Axis| p.filter(&generators::axis::truth_force(ax, p));
         let tr = truth(&axis);
         let nod = truth(&Axis { shape: Shape::None, ..axis.clone() });

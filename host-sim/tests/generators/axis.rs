@@ -177,6 +177,25 @@ pub struct Axis {
     pub area_ratio: f64,
     /// Record length [s].
     pub duration_s: f64,
+    /// The dwell clock of the record this axis made, per sample [s] ([`random_record`] keeps
+    /// it): the truth along a measured motion reads its junctions' age here.
+    pub dwell_trace: Option<DwellTrace>,
+}
+
+/// The true dwell clock of a record, one value per sample [s]. The truth along the measured
+/// motion ([`Axis::friction_along`]) cannot run the clock itself: the clock restarts whenever
+/// the contact slides faster than [`STICK_SPEED`], and a measured position moves by whole
+/// 1 um encoder counts, each a sliding speed of ~1 mm/s over its sample that the resting
+/// contact never had. Driven that way (until session 19) the truth kept almost none of its
+/// dwell effect (rms 1.6 N of 132 N at the peaks of held-out record 20706) and the noise
+/// floor of dwell records was the floor of a model without it.
+#[derive(Clone)]
+pub struct DwellTrace(pub std::sync::Arc<Vec<f64>>);
+
+impl std::fmt::Debug for DwellTrace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "DwellTrace({} samples)", self.0.len())
+    }
 }
 
 impl Axis {
@@ -315,6 +334,7 @@ impl Axis {
             area_m2,
             area_ratio: rng.range(0.5, 0.9),
             duration_s: 60.0,
+            dwell_trace: None,
         }
     }
 
@@ -460,7 +480,8 @@ impl Axis {
 
     /// The true friction along a given motion (for the noise floor: the true model driven by
     /// the measured motion): per sample the mean velocity `v_step[i]` over the interval ending
-    /// at sample i, restarted at each segment's first sample.
+    /// at sample i, restarted at each segment's first sample. The dwell clock is the record's
+    /// own ([`Axis::dwell_trace`]) where it is known.
     pub fn friction_along(
         &self,
         t: &[f64],
@@ -480,9 +501,15 @@ impl Axis {
                 let ps = p_sum.map_or(200e5, |p| p[i]);
                 let tc = temp.map_or(self.temperature_at(t[i]), |q| q[i]);
                 let mut f = 0.0;
+                // the record's own clock where it is known (samples line up with the record's
+                // rows: the generator's records are uniform and gap-free)
+                let true_age = self.dwell_trace.as_ref().and_then(|d| d.0.get(i).copied());
                 for k in 0..SUB {
                     let xi = x[i] - v * (dt - (k as f64 + 1.0) * h);
-                    self.clock(slip, h, &mut stuck, &mut dwell);
+                    match true_age {
+                        Some(age) => dwell = age,
+                        None => self.clock(slip, h, &mut stuck, &mut dwell),
+                    }
                     (f, slip) = self.friction_step(&mut z, v, xi, ps, tc, dwell, h);
                 }
                 out[i] = f;
@@ -611,6 +638,12 @@ fn sqrt_flow(dp: f64) -> f64 {
 /// (friction with it minus friction without it) after removing what a Coulomb and a viscous
 /// level could absorb (least squares on sign(v) and v), over the rms of the measured force.
 pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
+    let (text, visibility, _) = record_traced(axis, seed);
+    (text, visibility)
+}
+
+/// [`record`] and the record's dwell clock, one value per row [s].
+fn record_traced(axis: &Axis, seed: u64) -> (String, f64, Vec<f64>) {
     let mut rng = Rng::new(seed);
     let xr = schedule(axis, &mut rng);
     simulate(axis, &mut rng, &xr)
@@ -622,7 +655,8 @@ pub fn record(axis: &Axis, seed: u64) -> (String, f64) {
 #[allow(dead_code)]
 pub fn record_along(axis: &Axis, seed: u64, xr: &[f64]) -> (String, f64) {
     let mut rng = Rng::new(seed);
-    simulate(axis, &mut rng, xr)
+    let (text, visibility, _) = simulate(axis, &mut rng, xr);
+    (text, visibility)
 }
 
 /// Reference velocity and acceleration of a reference position, by central differences.
@@ -641,7 +675,7 @@ fn derivatives(xr: &[f64]) -> (Vec<f64>, Vec<f64>) {
 
 /// The axis run along the reference position `xr`, its velocity and acceleration
 /// feed-forward from central differences.
-fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64) {
+fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64, Vec<f64>) {
     let n = xr.len();
     let (vr, ar) = derivatives(xr);
     let h = DT / SUB as f64;
@@ -677,6 +711,7 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64) {
     let mut x_prev_meas = 0.0;
     let mut v_est = 0.0;
     let mut out = String::with_capacity(n * 60);
+    let mut trace = Vec::with_capacity(n);
     let hyd = axis.actuator == Actuator::Hydraulic;
     let temp_col = axis.temperature.is_some();
     out.push_str(&format!(
@@ -730,6 +765,7 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64) {
         if dbg {
             line.push_str(&format!(",{effect_force:.2},{dwell:.3}"));
         }
+        trace.push(dwell);
         line.push('\n');
         out.push_str(&line);
         if v.abs() >= 2e-4 {
@@ -785,7 +821,7 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64) {
             x += h * v;
         }
     }
-    (out, visibility(&seen))
+    (out, visibility(&seen), trace)
 }
 
 /// The part of the effect's force that sign(v) and v cannot absorb, rms, over the force rms.
@@ -823,8 +859,9 @@ pub fn random_record(effect: Option<&'static str>, seed: u64) -> (String, Axis) 
     let mut last = None;
     for attempt in 0..20u64 {
         let s = seed.wrapping_add(attempt.wrapping_mul(1_000_003));
-        let axis = Axis::random(effect, s);
-        let (text, vis) = record(&axis, s.wrapping_mul(7919).wrapping_add(3));
+        let mut axis = Axis::random(effect, s);
+        let (text, vis, trace) = record_traced(&axis, s.wrapping_mul(7919).wrapping_add(3));
+        axis.dwell_trace = Some(DwellTrace(std::sync::Arc::new(trace)));
         if effect.is_none() || vis >= MIN_VISIBILITY {
             return (text, axis);
         }
