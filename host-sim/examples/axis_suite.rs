@@ -51,6 +51,8 @@ struct Row {
     departures: usize,
     /// evidence of the model-free dwell trend of the breakaway peaks (NaN: none)
     peak_trend_dbic: f64,
+    /// why the baseline's `dwell_stiction` candidate cannot be significant, if a test says so
+    dwell_caution: Option<String>,
 }
 
 fn main() {
@@ -317,6 +319,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         added_pct: f64::NAN,
         floor_pct: f64::NAN,
         floor_measured_clock_pct: f64::NAN,
+        dwell_caution: None,
         without_effect_pct: f64::NAN,
         candidates: Vec::new(),
         departures: 0,
@@ -376,6 +379,10 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
             )
         })
         .collect();
+    row.dwell_caution = cands
+        .iter()
+        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
+        .and_then(|c| c.caution.clone());
     row.departures = d.breakaway.departures.len();
     row.peak_trend_dbic = d.breakaway.trend.as_ref().map_or(f64::NAN, |t| t.delta_bic);
     row.baseline_pct = d.stages[0].fit.rel_err_pct;
