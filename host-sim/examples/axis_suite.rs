@@ -175,35 +175,26 @@ fn main() {
         "added <= 1.2x floor",
         "floor < baseline: right"
     );
+    let line = |label: &str, n: usize, right: Option<usize>, t: Tally| {
+        let right = right.map_or(format!("{:>23}", ""), |k| {
+            format!("{k:>15} ({:>3.0} %)", pct(k, n))
+        });
+        println!(
+            "{label:<24} {n:>9} {right} {:>15} ({:>3.0} %) {:>13} of {:>2} ({:>3.0} %)",
+            t.close,
+            pct(t.close, n),
+            t.resolved_right,
+            t.resolved,
+            pct(t.resolved_right, t.resolved)
+        );
+    };
     for e in EFFECTS {
         let rs: Vec<&Row> = rows.iter().filter(|r| r.hidden == e).collect();
         let right = rs
             .iter()
             .filter(|r| r.first_significant.as_deref() == Some(e))
             .count();
-        let close = rs
-            .iter()
-            .filter(|r| r.error.is_none() && r.added_pct <= 1.2 * r.floor_pct)
-            .count();
-        let resolved: Vec<&&Row> = rs
-            .iter()
-            .filter(|r| r.error.is_none() && r.floor_pct < r.baseline_pct)
-            .collect();
-        let resolved_right = resolved
-            .iter()
-            .filter(|r| r.first_significant.as_deref() == Some(e))
-            .count();
-        println!(
-            "{e:<24} {:>9} {:>15} ({:>3.0} %) {:>15} ({:>3.0} %) {:>13} of {:>2} ({:>3.0} %)",
-            rs.len(),
-            right,
-            pct(right, rs.len()),
-            close,
-            pct(close, rs.len()),
-            resolved_right,
-            resolved.len(),
-            pct(resolved_right, resolved.len())
-        );
+        line(e, rs.len(), Some(right), tally(&rs, e, |r| r.floor_pct));
     }
     // The dwell clock is the one hidden state of a truth the measured motion cannot drive: its
     // clock restarts at any stick of the contact, which the 1 um counts neither show nor
@@ -211,32 +202,11 @@ fn main() {
     // measured motion instead it is a pessimistic one (its counts restart it).
     let dw: Vec<&Row> = rows
         .iter()
-        .filter(|r| r.hidden == "dwell_stiction" && r.error.is_none())
+        .filter(|r| r.hidden == "dwell_stiction")
         .collect();
     if !dw.is_empty() {
-        let close = dw
-            .iter()
-            .filter(|r| r.added_pct <= 1.2 * r.floor_measured_clock_pct)
-            .count();
-        let resolved: Vec<&&Row> = dw
-            .iter()
-            .filter(|r| r.floor_measured_clock_pct < r.baseline_pct)
-            .collect();
-        let resolved_right = resolved
-            .iter()
-            .filter(|r| r.first_significant.as_deref() == Some("dwell_stiction"))
-            .count();
-        println!(
-            "{:<24} {:>9} {:>22} {:>15} ({:>3.0} %) {:>13} of {:>2} ({:>3.0} %)",
-            "  its clock on the motion",
-            dw.len(),
-            "",
-            close,
-            pct(close, dw.len()),
-            resolved_right,
-            resolved.len(),
-            pct(resolved_right, resolved.len())
-        );
+        let t = tally(&dw, "dwell_stiction", |r| r.floor_measured_clock_pct);
+        line("  its clock on the motion", dw.len(), None, t);
     }
     let none: Vec<&Row> = rows.iter().filter(|r| r.hidden == "none").collect();
     let false_pos = none
@@ -260,6 +230,31 @@ fn main() {
         std::fs::write(&path, serde_json::to_string_pretty(&rows).expect("json"))
             .expect("write json");
         println!("wrote {path}");
+    }
+}
+
+/// The floor columns of one effect's records.
+#[derive(Clone, Copy)]
+struct Tally {
+    /// With the effect added, within 1.2x the floor.
+    close: usize,
+    /// Records whose floor is below the fitted baseline's error.
+    resolved: usize,
+    /// Of those, the ones whose first significant candidate is the effect.
+    resolved_right: usize,
+}
+
+/// The floor columns of `rs` (records of `effect`) against the floor `floor` reads [%].
+fn tally(rs: &[&Row], effect: &str, floor: impl Fn(&Row) -> f64) -> Tally {
+    let ok: Vec<&&Row> = rs.iter().filter(|r| r.error.is_none()).collect();
+    let resolved: Vec<&&&Row> = ok.iter().filter(|r| floor(r) < r.baseline_pct).collect();
+    Tally {
+        close: ok.iter().filter(|r| r.added_pct <= 1.2 * floor(r)).count(),
+        resolved: resolved.len(),
+        resolved_right: resolved
+            .iter()
+            .filter(|r| r.first_significant.as_deref() == Some(effect))
+            .count(),
     }
 }
 

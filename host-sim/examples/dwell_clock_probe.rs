@@ -1,76 +1,221 @@
-//! Where a dwell clock read off the measured motion differs from the record's own (the
-//! generator's true clock): per stretch of samples, the true dwell increase against the one
-//! the same shape gets from a body-speed clock (the speed over WINDOW samples; forgetting over
-//! the shape's renewal distance, or at once with `--restart`): the 25 stretches of 50 ms that
-//! differ most where the axis moves.
-//! `cargo run --release -p host-sim --example dwell_clock_probe -- SEED [STICK] [WINDOW] [--restart]`
+//! What a dwell clock read off the measured motion can explain on the independent
+//! generator's dwell records, against the floor that reads the record's own clock. Three
+//! modes:
+//!
+//! - `truth [FIRST_SEED] [N]`: the generator's own shape with its clock replaced by a
+//!   body-speed clock (stick under 0.05 mm/s; the speed over 1..100 ms; forgotten over a
+//!   renewal distance or at once), scored like the floor (session 19: none comes near it);
+//! - `fit [FIRST_SEED] [N]`: our dwell term refitted (linear parameters) at every point of a
+//!   grid of time constant, renewal distance and stick speed, best point per stick speed;
+//! - `gaps SEED [STICK] [WINDOW] [--restart]`: where one body-speed clock parts from the
+//!   record's, the 25 stretches of 50 ms that differ most in the dwell force where the axis
+//!   moves.
+//!
+//! `cargo run --release -p host-sim --example dwell_clock_probe -- MODE ...` (seeds default to
+//! 1700 and 10: the first calibration dwell records).
 #[path = "../tests/generators/mod.rs"]
 mod generators;
-use generators::axis::{random_record, Shape};
+use generators::axis::{random_record, Axis, DwellTrace, Shape};
 use host_sim::diagnose::inverse::Prepared;
+use host_sim::diagnose::{self, fit, Options};
 use host_sim::record::Record;
+use lugre_servo::friction::effects::DwellStiction;
+use rayon::prelude::*;
 use std::path::Path;
 
-fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let seed: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1700);
-    let stick: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5e-5);
+/// A dwell clock read off the measured motion [s per sample]: it runs while the body's speed
+/// (over the last `window` samples; 1: the step's mean velocity) is under `stick` [m/s], and
+/// once it moves is forgotten over `renewal` [m] of travel, or at once (`None`).
+fn body_clock(p: &Prepared, stick: f64, window: usize, renewal: Option<f64>) -> Vec<f64> {
+    let mut age = 0.0f64;
+    (0..p.len())
+        .map(|i| {
+            let v = if window == 1 {
+                p.v_step[i]
+            } else {
+                (p.x[i] - p.x[i.saturating_sub(window)]) / (window as f64 * p.dt)
+            }
+            .abs();
+            age = if v < stick {
+                age + p.dt
+            } else {
+                renewal.map_or(0.0, |d| age * (-v * p.dt / d).exp())
+            };
+            age
+        })
+        .collect()
+}
+
+/// The generator's renewal distance of a dwell axis [m].
+fn renewal_of(axis: &Axis) -> f64 {
+    match axis.shape {
+        Shape::Dwell { renewal_m, .. } => renewal_m,
+        _ => unreachable!("a dwell record"),
+    }
+}
+
+fn record(seed: u64) -> (Record, Axis) {
     let (text, axis) = random_record(Some("dwell_stiction"), seed);
-    let rec = Record::parse(&text, Path::new("x.csv")).unwrap();
+    (Record::parse(&text, Path::new("x.csv")).unwrap(), axis)
+}
+
+/// `truth` and `fit`: per record, a header (floor, baseline, our dwell candidate) and the
+/// mode's lines.
+fn per_record(seed: u64, fit_mode: bool) -> String {
+    let (rec, axis) = record(seed);
+    let opts = Options {
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "x.csv", &opts).unwrap();
+    let p = &d.prepared;
+    let base = &d.stages[0].fit;
+    let cand = d.stages[0]
+        .candidates
+        .iter()
+        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
+        .and_then(|c| c.fit.as_ref())
+        .map_or(f64::NAN, |f| f.rel_err_pct);
+    let mut s = format!(
+        "{seed} {:?} {:?}\n  floor {:.2} %, baseline {:.2} %, dwell candidate {cand:.2} %\n",
+        axis.actuator,
+        axis.shape,
+        generators::axis::truth_error_pct(&axis, p),
+        base.rel_err_pct
+    );
+    if !fit_mode {
+        let stick = 5e-5;
+        let own = renewal_of(&axis);
+        let clocks = [
+            (1, own),
+            (20, 1e-5),
+            (20, 1e-4),
+            (50, 1e-6),
+            (50, 1e-5),
+            (50, 1e-4),
+            (100, 1e-5),
+            (100, 1e-4),
+        ];
+        for (window, renewal) in clocks {
+            let with = |trace: Vec<f64>| {
+                let a = Axis {
+                    dwell_trace: Some(DwellTrace(std::sync::Arc::new(trace))),
+                    ..axis.clone()
+                };
+                generators::axis::truth_error_pct(&a, p)
+            };
+            s += &format!(
+                "  truth with a body-speed clock (stick {stick:.0e}, window {window} ms, renewal {renewal:.0e}): decaying {:.2} %, restarting {:.2} %\n",
+                with(body_clock(p, stick, window, Some(renewal))),
+                with(body_clock(p, stick, window, None))
+            );
+        }
+        return s;
+    }
+    let n_eff = fit::effective_samples(p, 20.0);
+    for stick in [2e-5, 5e-5, 2e-4] {
+        let mut best = (f64::INFINITY, 0.0, 0.0, 0.0);
+        for tau in [0.05, 0.1, 0.2, 0.35, 0.5, 1.0, 2.0, 5.0] {
+            for renewal in [1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2] {
+                let mut m = base.model;
+                m.friction.effects.dwell_stiction = Some(DwellStiction {
+                    max_increase: 0.0,
+                    time_constant: tau,
+                    stick_velocity: stick,
+                    renewal_distance: renewal,
+                });
+                let f = fit::refit(&m, p, None, n_eff);
+                if f.rel_err_pct < best.0 {
+                    let dwell = f.model.friction.effects.dwell_stiction;
+                    best = (
+                        f.rel_err_pct,
+                        tau,
+                        renewal,
+                        dwell.map_or(0.0, |d| d.max_increase),
+                    );
+                }
+            }
+        }
+        s += &format!(
+            "  stick {stick:.0e}: best {:.2} % at tau {} s, renewal {:.0e} m, dF {:.0} N\n",
+            best.0, best.1, best.2, best.3
+        );
+    }
+    s
+}
+
+/// `gaps`: where one body-speed clock parts from the record's.
+fn gaps(args: &[String]) {
+    let seed: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(1700);
+    let stick: f64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(5e-5);
+    let window: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1);
+    let restart = args.iter().any(|a| a == "--restart");
+    let (rec, axis) = record(seed);
     let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();
     let Shape::Dwell {
         increase_n,
         tau_s,
         hill,
-        renewal_m,
+        ..
     } = axis.shape
     else {
-        unreachable!()
+        unreachable!("a dwell record")
     };
+    // the generator's dwell force at an age [N]
     let w = |age: f64| {
         let t = age.max(0.0).powf(hill);
         increase_n * t / (t + tau_s.powf(hill))
     };
-    let truth = axis.dwell_trace.clone().unwrap().0;
-    let mut age = 0.0f64;
-    let win: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1);
-    let restart = args.iter().any(|a| a == "--restart");
-    let body: Vec<f64> = (0..p.len())
-        .map(|i| {
-            let v = if win == 1 {
-                p.v_step[i]
-            } else {
-                (p.x[i] - p.x[i.saturating_sub(win)]) / (win as f64 * p.dt)
-            };
-            if v.abs() < stick {
-                age += p.dt
-            } else if restart {
-                age = 0.0
-            } else {
-                age *= (-v.abs() * p.dt / renewal_m).exp()
-            }
-            age
+    let truth = axis.dwell_trace.clone().expect("random_record keeps it").0;
+    let renewal = (!restart).then(|| renewal_of(&axis));
+    let body = body_clock(&p, stick, window, renewal);
+    println!("{axis:?}");
+    // per 50 ms block: start, mean |v|, moving share, true and body-clock dwell force
+    let mut rows: Vec<(usize, f64, f64, f64, f64)> = (0..p.len())
+        .step_by(50)
+        .map(|b| {
+            let e = (b + 50).min(p.len());
+            let mean = |f: &dyn Fn(usize) -> f64| (b..e).map(f).sum::<f64>() / (e - b) as f64;
+            (
+                b,
+                mean(&|i| p.v[i].abs()),
+                mean(&|i| p.weight[i]),
+                mean(&|i| w(truth[i])),
+                mean(&|i| w(body[i])),
+            )
         })
         .collect();
-    println!("{axis:?}");
-    // per 50 ms block: mean |v|, true and body increase (mean), moving share
-    let mut rows = vec![];
-    for b in (0..p.len()).step_by(50) {
-        let e = (b + 50).min(p.len());
-        let n = (e - b) as f64;
-        let wt: f64 = (b..e).map(|i| w(truth[i])).sum::<f64>() / n;
-        let wb: f64 = (b..e).map(|i| w(body[i])).sum::<f64>() / n;
-        let mv: f64 = (b..e).map(|i| p.weight[i]).sum::<f64>() / n;
-        let v: f64 = (b..e).map(|i| p.v[i].abs()).sum::<f64>() / n;
-        rows.push((b, v, mv, wt, wb));
-    }
-    let total: f64 = rows.iter().map(|r| r.2 * (r.3 - r.4).powi(2)).sum();
+    let gap = |r: &(usize, f64, f64, f64, f64)| r.2 * (r.3 - r.4).powi(2);
+    let total: f64 = rows.iter().map(gap).sum();
     println!("scored squared gap {total:.0} N^2 (per block means)");
-    let mut sorted = rows.clone();
-    sorted.sort_by(|a, b| (b.2 * (b.3 - b.4).powi(2)).total_cmp(&(a.2 * (a.3 - a.4).powi(2))));
-    for r in sorted.iter().take(25) {
-        let (b, v, mv, wt, wb) = *r;
-        println!("t {:7.2} s |v| {:8.5} m/s moving {:.2} true +{:6.1} N body-clock +{:6.1} N  true age {:.3} body age {:.3}",
-            b as f64 * p.dt, v, mv, wt, wb, truth[b + 25.min(p.len() - 1 - b)], body[b + 25.min(p.len() - 1 - b)]);
+    rows.sort_by(|a, b| gap(b).total_cmp(&gap(a)));
+    for &(b, v, moving, wt, wb) in rows.iter().take(25) {
+        let mid = (b + 25).min(p.len() - 1);
+        println!(
+            "t {:7.2} s |v| {v:8.5} m/s moving {moving:.2} true +{wt:6.1} N body-clock +{wb:6.1} N  true age {:.3} body age {:.3}",
+            b as f64 * p.dt,
+            truth[mid],
+            body[mid]
+        );
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mode = args.first().map(String::as_str).unwrap_or("truth");
+    match mode {
+        "gaps" => return gaps(&args[1..]),
+        "truth" | "fit" => {}
+        other => panic!("unknown mode {other}: truth, fit or gaps"),
+    }
+    let s0: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1700);
+    let n: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(10);
+    let out: Vec<String> = (s0..s0 + n)
+        .collect::<Vec<_>>()
+        .par_iter()
+        .map(|&seed| per_record(seed, mode == "fit"))
+        .collect();
+    for s in out {
+        print!("{s}");
     }
 }

@@ -192,14 +192,8 @@ fn the_truth_of_a_dwell_record_keeps_its_dwell_effect() {
         assert_eq!(axis.dwell_trace.as_ref().map(|d| d.0.len()), Some(p.len()));
         let brk = Breakaway::find(&p);
         let peak_rms = |axis: &Axis| {
-            let model = brk.model_peaks(&p.filter(&generators::axis::truth_force(axis, &p)));
-            let sq: f64 = brk
-                .departures
-                .iter()
-                .zip(&model)
-                .map(|(d, m)| (d.peak_n - m).powi(2))
-                .sum();
-            (sq / brk.departures.len() as f64).sqrt()
+            let truth = p.filter(&generators::axis::truth_force(axis, &p));
+            (brk.peak_rss(&truth) / brk.departures.len() as f64).sqrt()
         };
         let truth = peak_rms(&axis);
         let own_clock = peak_rms(&Axis {

@@ -194,10 +194,8 @@ impl Prepared {
         }
         let force = by_segment(&parallel, &rec.force);
         let mut motion = segmented(&parallel, &segments, &[&a, &v]).into_iter();
-        let (acceleration_filtered, velocity_filtered) = (
-            motion.next().unwrap_or_default(),
-            motion.next().unwrap_or_default(),
-        );
+        let mut next = || motion.next().unwrap_or_else(|| vec![0.0; n]);
+        let (acceleration_filtered, velocity_filtered) = (next(), next());
         let mut weight: Vec<f64> = v
             .iter()
             .map(|s| if s.abs() >= STUCK_SPEED { 1.0 } else { 0.0 })
