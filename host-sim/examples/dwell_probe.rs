@@ -6,7 +6,11 @@
 //! differences, and the rank correlation of the residual peaks (measured minus baseline,
 //! signed by direction) with the rest time, and the three trends' evidence and growth: the
 //! measured peaks' (`raw`), the baseline's residual peaks' (`resid`, what the decision asks
-//! along with `raw`) and the friction peaks' (force less the baseline's inertia, `friction`).
+//! along with `raw`) and the friction peaks' (force less the baseline's inertia, `friction`);
+//! on the line `FEAT`, the trends of other per-departure features tried: the residual's own
+//! peak over the window (`rpeak`), the force, the friction and the residual up to 20 ms after
+//! the axis reaches the departure speed (`early_*`), and the truth's dwell force along the
+//! measured motion (`oracle`: what a perfect feature would show).
 //!
 //! `cargo run --release -p host-sim --example dwell_probe -- [EFFECT|none] [FIRST_SEED] [N] [-v]`
 //! (defaults `dwell_stiction 20700 10`: the held-out dwell records; `-v` lists departures).
@@ -120,6 +124,30 @@ fn main() {
             None => vec![f64::NAN; brk.departures.len()],
         };
         if let Some(f) = dw.and_then(|c| c.fit.as_ref()) { s += &format!("  dwfit {:?}\n", f.model.friction.effects.dwell_stiction); }
+        {
+            // candidate per-departure features and their dwell trends
+            use host_sim::diagnose::breakaway::DEPARTURE_SPEED;
+            let fb = &base.fit.prediction;
+            let mk = base.fit.model.mass_kg;
+            let early = |e: &host_sim::diagnose::breakaway::Departure| {
+                let fast = (e.index..e.window.end).find(|&k| p.v[k].abs() >= DEPARTURE_SPEED).unwrap_or(e.window.end);
+                e.window.start..(fast + 20).min(e.window.end)
+            };
+            let mx = |f: &dyn Fn(usize) -> f64, w: std::ops::Range<usize>| w.map(f).fold(f64::NEG_INFINITY, f64::max);
+            let feats: Vec<(&str, Vec<f64>)> = vec![
+                ("rpeak", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * (p.force[k] - fb[k]), e.window.clone())).collect()),
+                ("early_raw", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * p.force[k], early(e))).collect()),
+                ("early_fric", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * (p.force[k] - mk * inertia[k]), early(e))).collect()),
+                ("early_resid", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * (p.force[k] - fb[k]), early(e))).collect()),
+                ("oracle", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * (tr[k] - nod[k]), e.window.clone())).collect()),
+            ];
+            s += "  FEAT";
+            for (name, v) in &feats {
+                let t = brk.trend_of(v);
+                s += &format!(" {name}={:.1}/{:.0}", t.as_ref().map_or(f64::NAN, |t| t.delta_bic), t.as_ref().map_or(f64::NAN, |t| t.increase_n));
+            }
+            s += "\n";
+        }
         if verbose {
             for (k, e) in brk.departures.iter().enumerate() {
                 s += &format!("    clock={:6.3} rest={:6.3}", clock[k], e.rest_s);

@@ -279,8 +279,9 @@ fn print_breakaway(b: &diagnose::breakaway::Breakaway) {
     match (&b.trend, &b.untestable) {
         (_, Some(why)) => println!("   dwell stiction cannot be tested: {why}"),
         (Some(t), None) => println!(
-            "   breakaway peak against rest time: grows by {:.3} +- {:.3} N (time constant {:.2} s), evidence dBIC {:.1}",
-            t.increase_n, t.increase_ci_n, t.time_constant_s, t.delta_bic
+            "   breakaway peak against rest time: grows by {:.3} +- {:.3} N (time constant {:.2} s), evidence dBIC {:.1}{}",
+            t.increase_n, t.increase_ci_n, t.time_constant_s, t.delta_bic,
+            if t.weighs_kinematics { " (each departure's acceleration and speed weighed)" } else { "" }
         ),
         (None, None) => {}
     }

@@ -23,8 +23,13 @@
 //!    not tested on a record with too few departures or rest times that hardly vary
 //!    ([`MIN_DEPARTURES`], [`MIN_REST_SPAN`]): there the record cannot reveal it.
 //! 2. A model-free trend for the report: the peaks per direction against the rest time,
-//!    `peak = b_d + dF (1 - exp(-t_rest / tau))`, least squares for `(b_+, b_-, dF)` at each
-//!    `tau` of a log grid, `dBIC = n ln(RSS_0 / RSS_1) - 2 ln n` against `peak = b_d`.
+//!    `peak = b_d + c_a a + c_v v + dF (1 - exp(-t_rest / tau))`, least squares for
+//!    `(b_+, b_-, c_a, c_v, dF)` at each `tau` of a log grid, `dBIC = n ln(RSS_0 / RSS_1) -
+//!    2 ln n` against `peak = b_d + c_a a + c_v v`. `a` and `v` are the departure's largest
+//!    acceleration and speed ([`Departure::kinematics`]): a peak also carries the inertial
+//!    force of the start and the sliding friction at the speed reached, and where hard starts
+//!    follow long rests (a dwell before a fast move, a sinusoid's reversals the short rests)
+//!    they grow with the rest on a record without dwell stiction.
 
 use super::inverse::{Prepared, STUCK_SPEED};
 use serde::Serialize;
@@ -42,6 +47,10 @@ pub const POST_S: f64 = 0.15;
 pub const DEPARTURE_SPEED: f64 = 5.0 * STUCK_SPEED;
 /// Fewest departures on which `dwell_stiction` is tested.
 pub const MIN_DEPARTURES: usize = 6;
+/// Fewest departures on which the dwell trend weighs the departures' kinematics: two more
+/// columns leave it at least five degrees of freedom.
+pub const MIN_DEPARTURES_KINEMATICS: usize = 10;
+
 /// Longest rest over shortest rest needed to test `dwell_stiction` (its force grows with the
 /// rest time: with rests of one length there is nothing to compare).
 pub const MIN_REST_SPAN: f64 = 4.0;
@@ -89,6 +98,11 @@ pub struct Departure {
     pub peak_n: f64,
     /// Mean measured force over the rest \[N\].
     pub holding_n: f64,
+    /// The departure's kinematics over the window, in its direction: the largest
+    /// acceleration \[m/s^2\] and speed \[m/s\] (filtered like the force). The dwell trend
+    /// weighs them as nuisances: a peak carries the inertial force of the start and the
+    /// sliding friction at the speed reached, whatever the rest before it.
+    pub kinematics: [f64; 2],
     /// Samples the peak is read over (`[end - PRE_S, end + POST_S]`, cut at the next rest):
     /// a model's peak is read over the same ones.
     #[serde(skip)]
@@ -122,6 +136,9 @@ pub struct DwellTrend {
     pub time_constant_s: f64,
     /// Evidence for the growth against constant levels.
     pub delta_bic: f64,
+    /// The departures' acceleration and speed were weighed as nuisances
+    /// ([`MIN_DEPARTURES_KINEMATICS`] departures or more, and they vary).
+    pub weighs_kinematics: bool,
 }
 
 impl DwellTrend {
@@ -198,6 +215,12 @@ impl Breakaway {
                     continue;
                 }
                 let held = &p.force[start..rest_end];
+                let most = |c: &[f64]| {
+                    w.clone()
+                        .map(|k| d * c[k])
+                        .fold(f64::NEG_INFINITY, f64::max)
+                };
+                let kinematics = [most(&p.acceleration_filtered), most(&p.velocity_filtered)];
                 departures.push(Departure {
                     index: end,
                     time_s: p.t[end],
@@ -205,6 +228,7 @@ impl Breakaway {
                     direction: d,
                     peak_n,
                     holding_n: held.iter().sum::<f64>() / held.len() as f64,
+                    kinematics,
                     window: w,
                 });
             }
@@ -309,82 +333,113 @@ fn trend(deps: &[Departure]) -> Option<DwellTrend> {
 }
 
 /// The dwell trend of signed values at the departures (one per departure, signed like the
-/// peaks) against the rest before each.
+/// peaks) against the rest before each: `m = b_d + c_a a + c_v v + dF (1 - exp(-t_rest /
+/// tau))` against `m = b_d + c_a a + c_v v`, with `a` and `v` the departure's
+/// [`Departure::kinematics`] once there are [`MIN_DEPARTURES_KINEMATICS`] departures (before,
+/// or where they do not vary, without them).
 fn trend_of(deps: &[Departure], signed: &[f64]) -> Option<DwellTrend> {
+    (deps.len() >= MIN_DEPARTURES_KINEMATICS)
+        .then(|| trend_with(deps, signed, true))
+        .flatten()
+        .or_else(|| trend_with(deps, signed, false))
+}
+
+/// The dwell trend of [`trend_of`], with the kinematic columns or without; `None` when a
+/// column is zero (a record that departs in one direction only) or the columns are collinear.
+fn trend_with(deps: &[Departure], signed: &[f64], kinematic: bool) -> Option<DwellTrend> {
     let n = deps.len();
     let mags: Vec<f64> = deps
         .iter()
         .zip(signed)
         .map(|(d, s)| d.direction * s)
         .collect();
-    let fwd: Vec<f64> = deps
-        .iter()
-        .map(|d| if d.direction > 0.0 { 1.0 } else { 0.0 })
-        .collect();
-    // null: one level per direction (means)
-    let mean_of = |sel: f64| {
-        let (s, k) = mags
-            .iter()
-            .zip(&fwd)
-            .filter(|(_, f)| **f == sel)
-            .fold((0.0, 0usize), |(s, k), (m, _)| (s + m, k + 1));
-        (k > 0).then(|| s / k as f64)
-    };
-    let (m_f, m_b) = (mean_of(1.0), mean_of(0.0));
-    let rss0: f64 = mags
-        .iter()
-        .zip(&fwd)
-        .map(|(m, f)| {
-            let c = if *f == 1.0 { m_f } else { m_b }.unwrap_or(0.0);
-            (m - c).powi(2)
-        })
-        .sum();
-    let mut best: Option<(f64, [f64; 3], f64, f64)> = None;
-    for tau in TAU_GRID {
-        // columns: forward indicator, backward indicator, w(t_rest)
-        let rows: Vec<[f64; 3]> = deps
-            .iter()
-            .zip(&fwd)
-            .map(|(d, f)| [*f, 1.0 - f, -(-d.rest_s / tau).exp_m1()])
-            .collect();
-        let Some((beta, cov_w)) = least_squares3(&rows, &mags) else {
-            continue;
-        };
-        let rss: f64 = rows
-            .iter()
-            .zip(&mags)
-            .map(|(r, m)| (m - (beta[0] * r[0] + beta[1] * r[1] + beta[2] * r[2])).powi(2))
-            .sum();
-        if best.as_ref().is_none_or(|b| rss < b.0) {
-            best = Some((rss, beta, cov_w, tau));
+    let mut cols: Vec<Vec<f64>> = vec![
+        deps.iter().map(|d| f64::from(d.direction > 0.0)).collect(),
+        deps.iter().map(|d| f64::from(d.direction < 0.0)).collect(),
+    ];
+    if kinematic {
+        for j in 0..2 {
+            cols.push(deps.iter().map(|d| d.kinematics[j]).collect());
         }
     }
-    let (rss1, beta, cov_w, tau) = best?;
-    let dof = n.saturating_sub(3).max(1);
-    let se = (rss1 / dof as f64 * cov_w).sqrt();
-    let delta_bic = n as f64 * (rss0 / rss1.max(1e-300)).ln() - 2.0 * (n as f64).ln();
+    let null = least_squares(&cols, &mags)?;
+    let mut best: Option<(LeastSquares, f64)> = None;
+    for tau in TAU_GRID {
+        cols.push(deps.iter().map(|d| -(-d.rest_s / tau).exp_m1()).collect());
+        let fit = least_squares(&cols, &mags);
+        cols.pop();
+        if let Some(fit) = fit {
+            if best.as_ref().is_none_or(|b| fit.rss < b.0.rss) {
+                best = Some((fit, tau));
+            }
+        }
+    }
+    let (fit, tau) = best?;
+    let k = cols.len() + 1;
+    let dof = n.saturating_sub(k).max(1);
+    let se = (fit.rss / dof as f64 * fit.last_variance).sqrt();
+    let delta_bic = n as f64 * (null.rss / fit.rss.max(1e-300)).ln() - 2.0 * (n as f64).ln();
+    // the short-rest level per direction at the record's mean kinematics
+    let mean = |j: usize| {
+        cols.get(j)
+            .map_or(0.0, |c| c.iter().sum::<f64>() / n as f64)
+    };
+    let nuisance = fit.beta[2..k - 1]
+        .iter()
+        .enumerate()
+        .map(|(j, b)| b * mean(2 + j))
+        .sum::<f64>();
     Some(DwellTrend {
-        level_n: [beta[0], beta[1]],
-        increase_n: beta[2],
+        level_n: [fit.beta[0] + nuisance, fit.beta[1] + nuisance],
+        increase_n: fit.beta[k - 1],
         increase_ci_n: crate::stats::student_t95(dof) * se,
         time_constant_s: tau,
         delta_bic,
+        weighs_kinematics: kinematic,
     })
 }
 
-/// Least squares with three columns: the coefficients and the third one's variance factor
-/// `(A^T A)^-1_33`; `None` when `A^T A` is singular.
-fn least_squares3(rows: &[[f64; 3]], y: &[f64]) -> Option<([f64; 3], f64)> {
-    let mut ata = nalgebra::Matrix3::<f64>::zeros();
-    let mut aty = nalgebra::Vector3::<f64>::zeros();
-    for (r, yi) in rows.iter().zip(y) {
-        let a = nalgebra::Vector3::from(*r);
-        ata += a * a.transpose();
-        aty += a * *yi;
+/// A least-squares fit: coefficients, residual sum of squares and the last coefficient's
+/// variance factor `(A^T A)^-1` at its diagonal.
+struct LeastSquares {
+    beta: Vec<f64>,
+    rss: f64,
+    last_variance: f64,
+}
+
+/// Least squares on the columns `cols` (each scaled to unit rms, solved by SVD); `None` when
+/// a column is zero or the columns are (nearly) collinear.
+fn least_squares(cols: &[Vec<f64>], y: &[f64]) -> Option<LeastSquares> {
+    let (n, k) = (y.len(), cols.len());
+    if n <= k {
+        return None;
     }
-    let inv = ata.try_inverse()?;
-    let b = inv * aty;
-    Some(([b[0], b[1], b[2]], inv[(2, 2)]))
+    let scale: Vec<f64> = cols
+        .iter()
+        .map(|c| (c.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt())
+        .collect();
+    if scale.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return None;
+    }
+    let a = nalgebra::DMatrix::from_fn(n, k, |i, j| cols[j][i] / scale[j]);
+    let svd = a.clone().svd(true, true);
+    let s = &svd.singular_values;
+    let (smax, smin) = (s.max(), s.min());
+    if smin.is_nan() || smin <= 1e-9 * smax {
+        return None;
+    }
+    let b = nalgebra::DVector::from_column_slice(y);
+    let x = svd.solve(&b, 0.0).ok()?;
+    let rss = (&b - &a * &x).norm_squared();
+    let v_t = svd.v_t.as_ref()?;
+    let last = k - 1;
+    let last_variance =
+        (0..k).map(|j| (v_t[(j, last)] / s[j]).powi(2)).sum::<f64>() / (scale[last] * scale[last]);
+    Some(LeastSquares {
+        beta: x.iter().zip(&scale).map(|(b, s)| b / s).collect(),
+        rss,
+        last_variance,
+    })
 }
 
 #[cfg(test)]
@@ -407,6 +462,7 @@ mod tests {
                     direction: d,
                     peak_n: d * (level + increase * -(-r / 0.3f64).exp_m1() + wobble),
                     holding_n: 0.0,
+                    kinematics: [0.0, 0.0],
                     window: 0..0,
                 }
             })
@@ -537,6 +593,47 @@ mod tests {
         let t = brk.unexplained_trend(&flat).expect("trend");
         assert!(t.delta_bic > 10.0 && t.increase_n < 0.0, "{t:?}");
         assert!(!t.shows_growth());
+    }
+
+    /// Departures whose peaks carry the inertial force of their start (a 200 kg axis at the
+    /// departure's acceleration) and the viscous force at the speed reached, plus a growth
+    /// `increase` with the rest; the long rests come before the hard starts (as a dwell
+    /// before a fast move), so the inertial force alone rises with the rest.
+    fn starts(rests: &[f64], increase: f64) -> Vec<Departure> {
+        let mut deps = departures(rests, increase);
+        let longest = rests.iter().cloned().fold(0.0, f64::max);
+        for (k, d) in deps.iter_mut().enumerate() {
+            let accel = 0.5 + 2.5 * d.rest_s / longest + 0.3 * ((k as f64) * 2.3).cos();
+            let speed = 0.02 + 0.05 * ((k as f64) * 0.9).sin().abs();
+            d.kinematics = [accel, speed];
+            d.peak_n += d.direction * (200.0 * accel + 3000.0 * speed);
+        }
+        deps
+    }
+
+    #[test]
+    fn the_trend_weighs_the_departures_kinematics() {
+        let rests: Vec<f64> = RESTS.iter().chain(&RESTS).map(|r| r * 1.1).collect();
+        // without the kinematics the inertial force reads as a growth with the rest
+        let deps = starts(&rests, 0.0);
+        let peaks: Vec<f64> = deps.iter().map(|d| d.peak_n).collect();
+        let plain = trend_with(&deps, &peaks, false).expect("trend");
+        assert!(plain.shows_growth(), "{plain:?}");
+        // with them there is none
+        let t = trend(&deps).expect("trend");
+        assert!(!t.shows_growth(), "{t:?}");
+        // a true growth beside the inertia is found, and its size
+        let t = trend(&starts(&rests, 40.0)).expect("trend");
+        assert!(
+            t.shows_growth() && (t.increase_n - 40.0).abs() < 8.0,
+            "{t:?}"
+        );
+        // too few departures for two more columns: the trend without them
+        let few = starts(&rests[..MIN_DEPARTURES_KINEMATICS - 1], 0.0);
+        let peaks: Vec<f64> = few.iter().map(|d| d.peak_n).collect();
+        let t = trend(&few).expect("trend");
+        let plain = trend_with(&few, &peaks, false).expect("trend");
+        assert_eq!(t.delta_bic, plain.delta_bic);
     }
 
     #[test]
