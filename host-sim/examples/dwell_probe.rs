@@ -133,13 +133,19 @@ fn main() {
                 let fast = (e.index..e.window.end).find(|&k| p.v[k].abs() >= DEPARTURE_SPEED).unwrap_or(e.window.end);
                 e.window.start..(fast + 20).min(e.window.end)
             };
-            let mx = |f: &dyn Fn(usize) -> f64, w: std::ops::Range<usize>| w.map(f).fold(f64::NEG_INFINITY, f64::max);
+            // a series' peaks over each departure's early window (signed like the peaks)
+            let early_peaks = |f: &[f64]| -> Vec<f64> {
+                brk.departures.iter().map(|e| e.direction * early(e).map(|k| e.direction * f[k]).fold(f64::NEG_INFINITY, f64::max)).collect()
+            };
+            let diff = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x - y).collect() };
+            let residual = diff(&p.force, fb);
+            let inertial: Vec<f64> = inertia.iter().map(|a| mk * a).collect();
             let feats: Vec<(&str, Vec<f64>)> = vec![
-                ("rpeak", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * (p.force[k] - fb[k]), e.window.clone())).collect()),
-                ("early_raw", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * p.force[k], early(e))).collect()),
-                ("early_fric", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * (p.force[k] - mk * inertia[k]), early(e))).collect()),
-                ("early_resid", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * (p.force[k] - fb[k]), early(e))).collect()),
-                ("oracle", brk.departures.iter().map(|e| e.direction * mx(&|k| e.direction * (tr[k] - nod[k]), e.window.clone())).collect()),
+                ("rpeak", brk.model_peaks(&residual)),
+                ("early_raw", early_peaks(&p.force)),
+                ("early_fric", early_peaks(&diff(&p.force, &inertial))),
+                ("early_resid", early_peaks(&residual)),
+                ("oracle", brk.model_peaks(&diff(&tr, &nod))),
             ];
             s += "  FEAT";
             for (name, v) in &feats {

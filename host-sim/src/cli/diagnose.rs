@@ -280,8 +280,7 @@ fn print_breakaway(b: &diagnose::breakaway::Breakaway) {
         (_, Some(why)) => println!("   dwell stiction cannot be tested: {why}"),
         (Some(t), None) => println!(
             "   breakaway peak against rest time: grows by {:.3} +- {:.3} N (time constant {:.2} s), evidence dBIC {:.1}{}",
-            t.increase_n, t.increase_ci_n, t.time_constant_s, t.delta_bic,
-            if t.weighs_kinematics { " (each departure's acceleration and speed weighed)" } else { "" }
+            t.increase_n, t.increase_ci_n, t.time_constant_s, t.delta_bic, t.kinematics_note()
         ),
         (None, None) => {}
     }

@@ -142,6 +142,16 @@ pub struct DwellTrend {
 }
 
 impl DwellTrend {
+    /// What the output adds after the trend's numbers: whether the departures' kinematics
+    /// were weighed (empty where not).
+    pub fn kinematics_note(&self) -> &'static str {
+        if self.weighs_kinematics {
+            " (each departure's acceleration and speed weighed)"
+        } else {
+            ""
+        }
+    }
+
     /// The peaks grow with the rest time: evidence of at least [`DWELL_MIN_TREND_DBIC`] for a
     /// positive growth (peaks that fall with the rest are no dwell stiction, however strong
     /// the evidence).
@@ -380,15 +390,11 @@ fn trend_with(deps: &[Departure], signed: &[f64], kinematic: bool) -> Option<Dwe
     let se = (fit.rss / dof as f64 * fit.last_variance).sqrt();
     let delta_bic = n as f64 * (null.rss / fit.rss.max(1e-300)).ln() - 2.0 * (n as f64).ln();
     // the short-rest level per direction at the record's mean kinematics
-    let mean = |j: usize| {
-        cols.get(j)
-            .map_or(0.0, |c| c.iter().sum::<f64>() / n as f64)
-    };
-    let nuisance = fit.beta[2..k - 1]
+    let nuisance: f64 = fit.beta[2..cols.len()]
         .iter()
-        .enumerate()
-        .map(|(j, b)| b * mean(2 + j))
-        .sum::<f64>();
+        .zip(&cols[2..])
+        .map(|(b, c)| b * c.iter().sum::<f64>() / n as f64)
+        .sum();
     Some(DwellTrend {
         level_n: [fit.beta[0] + nuisance, fit.beta[1] + nuisance],
         increase_n: fit.beta[k - 1],

@@ -103,8 +103,7 @@ fn breakaway_section(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<Strin
         (None, Some(t)) => {
             out += &format!(
                 "<p>Peak against rest time: grows by {:.3} &plusmn; {:.3} N (95 %, time constant {:.2} s); evidence dBIC {:.1}{}.</p>",
-                t.increase_n, t.increase_ci_n, t.time_constant_s, t.delta_bic,
-                if t.weighs_kinematics { " (each departure's acceleration and speed weighed)" } else { "" }
+                t.increase_n, t.increase_ci_n, t.time_constant_s, t.delta_bic, t.kinematics_note()
             )
         }
         _ => {}
