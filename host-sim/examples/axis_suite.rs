@@ -8,7 +8,8 @@
 //! significance rule was calibrated on instead; `--no-breakaway` judges on sliding samples
 //! alone (the ablation of the breakaway evidence); `--only EFFECT` runs that effect's records
 //! (and the effect-free ones); `--seeds EFFECT:SEED,...` runs exactly those records (`none`
-//! for effect-free). `--write DIR [--seed N]` writes one record per
+//! for effect-free). `--leave-out-unresolved FLOOR` runs the experiment of
+//! `Options::leave_out_unresolved`. `--write DIR [--seed N]` writes one record per
 //! effect to try.
 //!
 //! Per effect: the first significant candidate is the hidden effect (right), and with the
@@ -299,6 +300,17 @@ fn pct(k: usize, n: usize) -> f64 {
     100.0 * k as f64 / n.max(1) as f64
 }
 
+/// `--leave-out-unresolved FLOOR`: the experiment of `Options::leave_out_unresolved`.
+fn leave_out_unresolved() -> Option<f64> {
+    let args: Vec<String> = std::env::args().collect();
+    let i = args.iter().position(|a| a == "--leave-out-unresolved")?;
+    Some(
+        args.get(i + 1)
+            .and_then(|s| s.parse().ok())
+            .expect("--leave-out-unresolved FLOOR (a fraction, e.g. 0.01)"),
+    )
+}
+
 fn run(effect: Option<&'static str>, seed: u64) -> Row {
     let (text, axis) = random_record(effect, seed);
     let hidden = effect.unwrap_or("none").to_string();
@@ -332,6 +344,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         add: effect.map(|e| vec![e.to_string()]).unwrap_or_default(),
         skip_final_ranking: true,
         ignore_breakaway: std::env::args().any(|a| a == "--no-breakaway"),
+        leave_out_unresolved: leave_out_unresolved(),
         ..Default::default()
     };
     let d = match diagnose::diagnose(&rec, &name, &opts) {

@@ -322,6 +322,23 @@ impl Prepared {
         100.0 * r / self.force_norm_all
     }
 
+    /// Leaves the samples `drop` marks out of the scores (their weight to zero) and recomputes
+    /// the error's denominator. `false` everywhere changes nothing.
+    pub fn leave_out(&mut self, drop: &[bool]) {
+        for (w, d) in self.weight.iter_mut().zip(drop) {
+            if *d {
+                *w = 0.0;
+            }
+        }
+        self.force_norm = self
+            .force
+            .iter()
+            .zip(&self.weight)
+            .map(|(f, w)| w * f * f)
+            .sum::<f64>()
+            .sqrt();
+    }
+
     /// Fraction of samples scored.
     pub fn scored_fraction(&self) -> f64 {
         self.weight.iter().sum::<f64>() / self.len().max(1) as f64
