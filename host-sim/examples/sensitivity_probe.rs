@@ -52,39 +52,34 @@ fn probe(effect: Option<&'static str>, seed: u64) -> String {
     let p = &d.prepared;
     let base = &d.stages[0].fit;
     let q = host_sim::signal::encoder_resolution(&rec.x);
-    let mut s2 = vec![0.0; p.len()];
-    let mode = std::env::var("MODE").unwrap_or("bw".into());
-    let k = 4;
-    for j in 0..k {
-        let pa = if mode == "q" {
+    let sm: Vec<f64> = if std::env::var("MODE").is_ok_and(|m| m == "q") {
+        // the filtered motion quantised again with the encoder's grid shifted by 1/8..7/8 count
+        let k = 4;
+        let mut s2 = vec![0.0; p.len()];
+        for j in 0..k {
             let off = (j as f64 + 0.5) / k as f64 * q;
             let mut alt = rec.clone();
             alt.x =
                 p.x.iter()
                     .map(|x| ((x + off) / q).round() * q - off)
                     .collect();
-            Prepared::new(&alt, "alt", Default::default()).expect("alt")
-        } else {
-            let hz = [40.0, 60.0, 160.0, 250.0][j];
-            let pr = host_sim::diagnose::inverse::Protocol {
-                position_cutoff_hz: hz,
-                ..Default::default()
-            };
-            Prepared::new(&rec, "alt", pr).expect("alt")
-        };
-        let pred = p.filter(&base.model.predict(&pa));
-        for (s, (a, b)) in s2.iter_mut().zip(pred.iter().zip(&base.prediction)) {
-            *s += (a - b).powi(2) / k as f64;
+            let pa = Prepared::new(&alt, "alt", Default::default()).expect("alt");
+            let pred = p.filter(&base.model.predict(&pa));
+            for (s, (a, b)) in s2.iter_mut().zip(pred.iter().zip(&base.prediction)) {
+                *s += (a - b).powi(2) / k as f64;
+            }
         }
-    }
-    // smoothed over 20 ms
-    let h = 10;
-    let sm: Vec<f64> = (0..p.len())
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(h), (i + h + 1).min(p.len()));
-            s2[a..b].iter().sum::<f64>() / (b - a) as f64
-        })
-        .collect();
+        // smoothed over 20 ms
+        let h = 10;
+        (0..p.len())
+            .map(|i| {
+                let (a, b) = (i.saturating_sub(h), (i + h + 1).min(p.len()));
+                s2[a..b].iter().sum::<f64>() / (b - a) as f64
+            })
+            .collect()
+    } else {
+        diagnose::prediction_spread(&rec, "probe.csv", Default::default(), p, &base.model).1
+    };
     let m: f64 = p.weight.iter().sum();
     let mse = base.rss / m;
     let w: Vec<f64> = (0..p.len())

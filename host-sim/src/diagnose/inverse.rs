@@ -77,6 +77,16 @@ pub struct Prepared {
     pub top_speed: f64,
 }
 
+/// Norm of a force column over the scored samples (`sqrt(sum w f^2)`) \[N\].
+fn scored_norm(force: &[f64], weight: &[f64]) -> f64 {
+    force
+        .iter()
+        .zip(weight)
+        .map(|(f, w)| w * f * f)
+        .sum::<f64>()
+        .sqrt()
+}
+
 /// Below this speed (after filtering) the axis counts as stuck [m/s]. There friction balances
 /// whatever force is applied, through bristle deflections far below any encoder's
 /// resolution (0.16 um for Table 2), so no model driven by the measured motion can predict it:
@@ -217,12 +227,7 @@ impl Prepared {
             weight[r.start..r.start + edge].fill(0.0);
             weight[r.end - edge..r.end].fill(0.0);
         }
-        let force_norm = force
-            .iter()
-            .zip(&weight)
-            .map(|(f, w)| w * f * f)
-            .sum::<f64>()
-            .sqrt();
+        let force_norm = scored_norm(&force, &weight);
         let force_norm_all = force.iter().map(|f| f * f).sum::<f64>().sqrt();
         if force_norm <= 0.0 {
             return Err(Error::data(name, DataProblem::ZeroForce));
@@ -330,13 +335,7 @@ impl Prepared {
                 *w = 0.0;
             }
         }
-        self.force_norm = self
-            .force
-            .iter()
-            .zip(&self.weight)
-            .map(|(f, w)| w * f * f)
-            .sum::<f64>()
-            .sqrt();
+        self.force_norm = scored_norm(&self.force, &self.weight);
     }
 
     /// Fraction of samples scored.

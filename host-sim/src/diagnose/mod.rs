@@ -1301,6 +1301,23 @@ pub fn unresolved(
     model: &AxisModel,
     floor: f64,
 ) -> Vec<bool> {
+    let (own, spread) = prediction_spread(rec, name, protocol, p, model);
+    let scored = p.weight.iter().sum::<f64>().max(1.0);
+    let threshold =
+        (p.weighted_rss_filtered(&own) / scored).max((floor * p.force_norm).powi(2) / scored);
+    spread.iter().map(|s| *s > threshold).collect()
+}
+
+/// A model's filtered prediction along the record, and at each sample the mean square of the
+/// same model's predictions with the position filtered at [`RESOLVE_BANDWIDTHS`] less its own,
+/// averaged over 20 ms \[N^2\]: the part of the prediction the measured motion leaves open.
+pub fn prediction_spread(
+    rec: &Record,
+    name: &str,
+    protocol: Protocol,
+    p: &Prepared,
+    model: &AxisModel,
+) -> (Vec<f64>, Vec<f64>) {
     let n = p.len();
     let own = p.filter(&model.predict(p));
     let mut spread = vec![0.0; n];
@@ -1320,20 +1337,18 @@ pub fn unresolved(
             *s += (a - b).powi(2) / RESOLVE_BANDWIDTHS.len() as f64;
         }
     }
-    let scored = p.weight.iter().sum::<f64>().max(1.0);
-    let threshold =
-        (p.weighted_rss_filtered(&own) / scored).max((floor * p.force_norm).powi(2) / scored);
     let half = ((0.01 / p.dt).round() as usize).max(1);
     let mut prefix = vec![0.0; n + 1];
     for i in 0..n {
         prefix[i + 1] = prefix[i] + spread[i];
     }
-    (0..n)
+    let smoothed = (0..n)
         .map(|i| {
             let (a, b) = (i.saturating_sub(half), (i + half + 1).min(n));
-            (prefix[b] - prefix[a]) / (b - a) as f64 > threshold
+            (prefix[b] - prefix[a]) / (b - a) as f64
         })
-        .collect()
+        .collect();
+    (own, smoothed)
 }
 
 /// Runs the whole diagnosis of a record.
