@@ -8,7 +8,8 @@
 //! significance rule was calibrated on instead; `--no-breakaway` judges on sliding samples
 //! alone (the ablation of the breakaway evidence); `--only EFFECT` runs that effect's records
 //! (and the effect-free ones); `--seeds EFFECT:SEED,...` runs exactly those records (`none`
-//! for effect-free). `--leave-out-unresolved FLOOR` runs the experiment of
+//! for effect-free). `--unweighted` scores every moving sample alike (`Options::unweighted`,
+//! the rule until session 23); `--leave-out-unresolved FLOOR` runs the experiment of
 //! `Options::leave_out_unresolved`. `--write DIR [--seed N]` writes one record per
 //! effect to try.
 //!
@@ -46,8 +47,12 @@ struct Row {
     /// error of the generator's true model with the hidden effect removed (its visibility) [%]
     without_effect_pct: f64,
     /// every candidate of the baseline, ranked: (effect, dBIC, error with it [%], detected,
-    /// the error cut the decision weighs)
-    candidates: Vec<(String, f64, f64, bool, f64)>,
+    /// the error cut the decision weighs, significant)
+    candidates: Vec<(String, f64, f64, bool, f64, bool)>,
+    /// the error the motion reading alone leaves open [%]
+    motion_spread_pct: f64,
+    /// fraction of the samples scored
+    scored_fraction: f64,
     /// departures from rest the diagnosis found (the breakaway evidence)
     departures: usize,
     /// evidence of the model-free dwell trend of the breakaway peaks (NaN: none)
@@ -329,6 +334,8 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         dwell_caution: None,
         without_effect_pct: f64::NAN,
         candidates: Vec::new(),
+        motion_spread_pct: f64::NAN,
+        scored_fraction: f64::NAN,
         departures: 0,
         peak_trend_dbic: f64::NAN,
     };
@@ -345,6 +352,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         skip_final_ranking: true,
         ignore_breakaway: std::env::args().any(|a| a == "--no-breakaway"),
         leave_out_unresolved: leave_out_unresolved(),
+        unweighted: std::env::args().any(|a| a == "--unweighted"),
         ..Default::default()
     };
     let d = match diagnose::diagnose(&rec, &name, &opts) {
@@ -384,6 +392,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
                 c.rel_err_pct.unwrap_or(f64::NAN),
                 c.detected,
                 c.error_cut,
+                c.significant,
             )
         })
         .collect();
@@ -391,6 +400,8 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         .iter()
         .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
         .and_then(|c| c.caution.clone());
+    row.motion_spread_pct = d.motion_spread_pct;
+    row.scored_fraction = p.scored_fraction();
     row.departures = d.breakaway.departures.len();
     row.peak_trend_dbic = d.breakaway.trend.as_ref().map_or(f64::NAN, |t| t.delta_bic);
     row.baseline_pct = d.stages[0].fit.rel_err_pct;

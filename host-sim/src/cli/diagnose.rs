@@ -67,8 +67,14 @@ pub struct JsonOut<'a> {
     /// The true model's error along the measured motion [%] (with --truth).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub noise_floor_pct: Option<f64>,
-    /// Error after each stage [%], baseline first.
+    /// Error after each stage [%], baseline first (the errors above and here weigh each moving
+    /// sample by how well the measured motion resolves its force: `diagnose::motion_weights`).
     pub history: Vec<(String, f64)>,
+    /// Error after each stage over the moving samples counted alike [%], baseline first: the
+    /// yardstick of `validation_rel_err_pct`.
+    pub plain_history: Vec<(String, f64)>,
+    /// The error the motion reading alone leaves open [%] (`Diagnosis::motion_spread_pct`).
+    pub motion_spread_pct: f64,
     /// Where the final model fails.
     pub regimes: &'a diagnose::regimes::RegimeReport,
     /// Departures from rest: breakaway peaks, holding forces, the dwell trend.
@@ -149,6 +155,12 @@ pub fn run(a: &Args) -> Result<()> {
                 .iter()
                 .map(|s| (s.label.clone(), s.fit.rel_err_pct))
                 .collect(),
+            plain_history: d
+                .stages
+                .iter()
+                .map(|s| (s.label.clone(), s.plain_rel_err_pct))
+                .collect(),
+            motion_spread_pct: d.motion_spread_pct,
             regimes: &last.regimes,
             breakaway: &d.breakaway,
         };
@@ -306,12 +318,18 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
         println!("model as given: relative force error {g:.2} %");
     }
     print_breakaway(&d.breakaway);
+    println!(
+        "the motion reading leaves {:.2} % open (the first baseline driven by the position filtered \
+         at other bandwidths); errors below weigh each moving sample by how well the reading \
+         resolves its force",
+        d.motion_spread_pct
+    );
     for (i, s) in d.stages.iter().enumerate() {
         let m = &s.fit.model;
         let p = &m.friction.params;
         println!(
-            "\n-- {} : relative force error {:.2} % --",
-            s.label, s.fit.rel_err_pct
+            "\n-- {} : relative force error {:.2} % (every moving sample alike {:.2} %) --",
+            s.label, s.fit.rel_err_pct, s.plain_rel_err_pct
         );
         if i == 0 {
             println!(

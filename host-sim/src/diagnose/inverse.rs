@@ -60,8 +60,12 @@ pub struct Prepared {
     pub parallel: LowPass,
     /// 1 where the axis moves (scored), 0 where it is stuck (see [`STUCK_SPEED`]).
     pub weight: Vec<f64>,
-    /// Norm of the filtered measured force over the scored samples, the error's denominator \[N\].
+    /// Norm of the filtered measured force over the scored samples, the error's denominator
+    /// (weighted like the residual) \[N\].
     pub force_norm: f64,
+    /// Norm of the filtered measured force over the scored samples counted alike, whatever
+    /// their weight: the denominator of [`Self::rel_err_plain_pct_filtered`] \[N\].
+    pub plain_force_norm: f64,
     /// Norm of the filtered measured force over all samples \[N\].
     pub force_norm_all: f64,
     /// Stretches of uniform sampling between logger gaps (index ranges; one for most records).
@@ -264,6 +268,7 @@ impl Prepared {
             parallel,
             weight,
             force_norm,
+            plain_force_norm: force_norm,
             force_norm_all,
             segments,
             notes: uniform.notes,
@@ -334,6 +339,33 @@ impl Prepared {
             if *d {
                 *w = 0.0;
             }
+        }
+        self.force_norm = scored_norm(&self.force, &self.weight);
+        self.plain_force_norm = scored_norm(
+            &self.force,
+            &self.weight.iter().map(|w| f64::from(*w > 0.0)).collect::<Vec<_>>(),
+        );
+    }
+
+    /// Relative force error of an already filtered prediction over the scored samples counted
+    /// alike (every weight above zero as 1), as before any [`Self::reweigh`] [%].
+    pub fn rel_err_plain_pct_filtered(&self, filtered: &[f64]) -> f64 {
+        let rss: f64 = self
+            .force
+            .iter()
+            .zip(filtered)
+            .zip(&self.weight)
+            .filter(|(_, w)| **w > 0.0)
+            .map(|((f, q), _)| (f - q) * (f - q))
+            .sum();
+        100.0 * rss.sqrt() / self.plain_force_norm
+    }
+
+    /// Multiplies each sample's weight by `factor` (in (0, 1]: a sample scored stays scored)
+    /// and recomputes the error's denominator.
+    pub fn reweigh(&mut self, factor: &[f64]) {
+        for (w, f) in self.weight.iter_mut().zip(factor) {
+            *w *= f.clamp(f64::MIN_POSITIVE, 1.0);
         }
         self.force_norm = scored_norm(&self.force, &self.weight);
     }

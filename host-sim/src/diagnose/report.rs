@@ -493,7 +493,13 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         }
     }
     out += "<p>Error = 100 ||F - F_hat|| / ||F|| on the force filtered at 20 Hz, over the samples where the axis moves \
-            (while stuck, friction balances whatever force is applied and cannot be predicted from the motion).</p>";
+            (while stuck, friction balances whatever force is applied and cannot be predicted from the motion), \
+            each weighed by how well the measured motion resolves its force.</p>";
+    out += &format!(
+        "<p>The motion reading leaves {:.2} % open (the first model driven by the position filtered at other \
+         bandwidths). Counting every moving sample alike: {:.2} % with the first model, {:.2} % with the final one.</p>",
+        d.motion_spread_pct, first.plain_rel_err_pct, last.plain_rel_err_pct
+    );
     if let Some(g) = d.given_rel_err_pct {
         out += &format!("<p>The model from the parameter file, as given: {g:.2} %.</p>");
     }
