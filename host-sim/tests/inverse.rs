@@ -158,3 +158,55 @@ fn unresolved_samples_are_the_abrupt_stops_and_a_high_floor_keeps_every_sample()
     assert_eq!(same.force_norm, p.force_norm);
     assert_eq!(same.weight, p.weight);
 }
+
+/// The motion weights (`diagnose::motion_weights`, on in every diagnosis): in (0, 1], about 1
+/// where the motion is smooth and far below it at the kinks where the exact model's prediction
+/// spreads; the plain error of a reweighed record is the error before the weights.
+#[test]
+fn motion_weights_discount_the_kinks_and_keep_smooth_motion() {
+    use host_sim::diagnose::{motion_weights, prediction_spread, MOTION_WEIGHT_FLOOR};
+    let rec = Record::parse(&record_text(0.0), Path::new("r.csv")).unwrap();
+    let p = Prepared::new(&rec, "r.csv", Protocol::default()).unwrap();
+    let truth = model();
+    let paused = |i: usize| (std::f64::consts::PI * i as f64 * DT).sin().abs() >= 0.95;
+    let kinks: Vec<usize> = (1..p.len())
+        .filter(|&i| paused(i) != paused(i - 1))
+        .collect();
+    let near_kink = |i: usize| kinks.iter().any(|&k| k.abs_diff(i) as f64 * DT <= 0.06);
+    let (own, spread) = prediction_spread(&rec, "r.csv", Protocol::default(), &p, &truth);
+    let w = motion_weights(&p, &own, &spread, MOTION_WEIGHT_FLOOR);
+    assert!(w.iter().all(|w| *w > 0.0 && *w <= 1.0));
+    let scored = |near: bool| -> Vec<f64> {
+        (0..p.len())
+            .filter(|&i| p.weight[i] > 0.0 && near_kink(i) == near)
+            .map(|i| w[i])
+            .collect()
+    };
+    let (near, far) = (scored(true), scored(false));
+    let min = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    println!(
+        "weights near the kinks: min {:.3}, mean {:.3} ({} samples); elsewhere: min {:.3}, mean {:.4} ({})",
+        min(&near),
+        mean(&near),
+        near.len(),
+        min(&far),
+        mean(&far),
+        far.len()
+    );
+    // smooth motion keeps its full weight, a kink loses most of it
+    assert!(min(&far) > 0.9, "{}", min(&far));
+    assert!(min(&near) < 0.1, "{}", min(&near));
+    let before = p.rel_err_pct(&truth.predict(&p));
+    let mut weighed = p.clone();
+    weighed.reweigh(&w);
+    let prediction = weighed.filter(&truth.predict(&weighed));
+    let plain = weighed.rel_err_plain_pct_filtered(&prediction);
+    let after = weighed.rel_err_pct(&truth.predict(&weighed));
+    println!("true model: {before:.4} % plain, {after:.4} % weighed");
+    assert!(
+        (plain - before).abs() < 1e-9 * before.max(1.0),
+        "{plain} vs {before}"
+    );
+    assert!(after < before, "{before} -> {after}");
+}

@@ -343,7 +343,11 @@ impl Prepared {
         self.force_norm = scored_norm(&self.force, &self.weight);
         self.plain_force_norm = scored_norm(
             &self.force,
-            &self.weight.iter().map(|w| f64::from(*w > 0.0)).collect::<Vec<_>>(),
+            &self
+                .weight
+                .iter()
+                .map(|w| f64::from(*w > 0.0))
+                .collect::<Vec<_>>(),
         );
     }
 
