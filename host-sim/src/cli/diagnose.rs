@@ -73,7 +73,8 @@ pub struct JsonOut<'a> {
     /// Error after each stage over the moving samples counted alike [%], baseline first: the
     /// yardstick of `validation_rel_err_pct`.
     pub plain_history: Vec<(String, f64)>,
-    /// The error the motion reading alone leaves open [%] (`Diagnosis::motion_spread_pct`).
+    /// How much the first baseline's force moves with the position filter's bandwidth [%]
+    /// (`Diagnosis::motion_spread_pct`).
     pub motion_spread_pct: f64,
     /// Where the final model fails.
     pub regimes: &'a diagnose::regimes::RegimeReport,
@@ -319,9 +320,9 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
     }
     print_breakaway(&d.breakaway);
     println!(
-        "the motion reading leaves {:.2} % open (the first baseline driven by the position filtered \
-         at other bandwidths); errors below weigh each moving sample by how well the reading \
-         resolves its force",
+        "motion reading: the first baseline's force moves by {:.2} % (rms, of the force) when the \
+         position is filtered at 0.4..2.5x its cutoff; the errors below weigh each moving sample \
+         by how little its force moves so",
         d.motion_spread_pct
     );
     for (i, s) in d.stages.iter().enumerate() {

@@ -353,9 +353,10 @@ pub struct Diagnosis {
     /// structure and parameters scores on these measurements (sensor noise, quantisation,
     /// delay and the derivative error of the inverse model).
     pub noise_floor_pct: Option<f64>,
-    /// The error the motion reading alone leaves open [%]: the first baseline driven by the
-    /// position filtered at other bandwidths ([`prediction_spread`]), scored like a model's
-    /// error over the moving samples counted alike.
+    /// How much the first baseline's force moves with the motion reading [%]: its predictions
+    /// with the position filtered at other bandwidths ([`prediction_spread`]), their rms spread
+    /// over the moving samples counted alike relative to the force. An upper bound on what the
+    /// reading leaves open: the widest bandwidths blur what the record does resolve.
     pub motion_spread_pct: f64,
     /// Effective independent samples used for the scores.
     pub effective_samples: f64,
@@ -1329,9 +1330,9 @@ fn unresolved_by_spread(p: &Prepared, own: &[f64], spread: &[f64], floor: f64) -
     spread.iter().map(|s| *s > threshold).collect()
 }
 
-/// The error the motion reading alone leaves open [%]: the sum of a prediction's spread
-/// ([`prediction_spread`]) over the scored samples counted alike, relative to the scored force,
-/// like [`Prepared::rel_err_plain_pct_filtered`].
+/// How much a prediction moves with the motion reading [%]: its spread ([`prediction_spread`])
+/// summed over the scored samples counted alike, relative to the scored force, like
+/// [`Prepared::rel_err_plain_pct_filtered`].
 pub fn motion_spread_pct(p: &Prepared, spread: &[f64]) -> f64 {
     let s: f64 = spread
         .iter()

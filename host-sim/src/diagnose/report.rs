@@ -496,8 +496,9 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
             (while stuck, friction balances whatever force is applied and cannot be predicted from the motion), \
             each weighed by how well the measured motion resolves its force.</p>";
     out += &format!(
-        "<p>The motion reading leaves {:.2} % open (the first model driven by the position filtered at other \
-         bandwidths). Counting every moving sample alike: {:.2} % with the first model, {:.2} % with the final one.</p>",
+        "<p>The first model's force moves by {:.2} % (rms, of the force) when the position is filtered at 0.4..2.5x \
+         its cutoff; where it moves most, a sample weighs least. Counting every moving sample alike: {:.2} % with the \
+         first model, {:.2} % with the final one.</p>",
         d.motion_spread_pct, first.plain_rel_err_pct, last.plain_rel_err_pct
     );
     if let Some(g) = d.given_rel_err_pct {
