@@ -104,6 +104,22 @@ fn a_force_at_the_last_sample_is_not_scored() {
     assert!((spiked - clean).abs() < 0.01, "{clean} -> {spiked}");
 }
 
+/// The clamped sinusoid's record (no spike), prepared, its true model, and which samples lie
+/// within 60 ms of a kink (where the sinusoid meets its clamp: the axis stops or starts
+/// abruptly).
+fn clamped_sinusoid() -> (Record, Prepared, AxisModel, Vec<bool>) {
+    let rec = Record::parse(&record_text(0.0), Path::new("r.csv")).unwrap();
+    let p = Prepared::new(&rec, "r.csv", Protocol::default()).unwrap();
+    let paused = |i: usize| (std::f64::consts::PI * i as f64 * DT).sin().abs() >= 0.95;
+    let kinks: Vec<usize> = (1..p.len())
+        .filter(|&i| paused(i) != paused(i - 1))
+        .collect();
+    let near = (0..p.len())
+        .map(|i| kinks.iter().any(|&k| k.abs_diff(i) as f64 * DT <= 0.06))
+        .collect();
+    (rec, p, model(), near)
+}
+
 /// The samples whose predicted force the measured motion does not resolve are where the axis
 /// stops or starts abruptly (the kinks where the clamped sinusoid pauses at speed), leaving
 /// them out lowers the true model's error, and a floor at the force's own rms leaves nothing
@@ -111,15 +127,8 @@ fn a_force_at_the_last_sample_is_not_scored() {
 #[test]
 fn unresolved_samples_are_the_abrupt_stops_and_a_high_floor_keeps_every_sample() {
     use host_sim::diagnose::unresolved;
-    let rec = Record::parse(&record_text(0.0), Path::new("r.csv")).unwrap();
-    let p = Prepared::new(&rec, "r.csv", Protocol::default()).unwrap();
-    let truth = model();
-    // the kinks: where the sinusoid meets its clamp
-    let paused = |i: usize| (std::f64::consts::PI * i as f64 * DT).sin().abs() >= 0.95;
-    let kinks: Vec<usize> = (1..p.len())
-        .filter(|&i| paused(i) != paused(i - 1))
-        .collect();
-    let near_kink = |i: usize| kinks.iter().any(|&k| k.abs_diff(i) as f64 * DT <= 0.06);
+    let (rec, p, truth, near) = clamped_sinusoid();
+    let near_kink = |i: usize| near[i];
     let scored = p.weight.iter().filter(|w| **w > 0.0).count();
     let mut left_out = Vec::new();
     for floor in [0.0, 0.01] {
@@ -165,14 +174,8 @@ fn unresolved_samples_are_the_abrupt_stops_and_a_high_floor_keeps_every_sample()
 #[test]
 fn motion_weights_discount_the_kinks_and_keep_smooth_motion() {
     use host_sim::diagnose::{motion_weights, prediction_spread, MOTION_WEIGHT_FLOOR};
-    let rec = Record::parse(&record_text(0.0), Path::new("r.csv")).unwrap();
-    let p = Prepared::new(&rec, "r.csv", Protocol::default()).unwrap();
-    let truth = model();
-    let paused = |i: usize| (std::f64::consts::PI * i as f64 * DT).sin().abs() >= 0.95;
-    let kinks: Vec<usize> = (1..p.len())
-        .filter(|&i| paused(i) != paused(i - 1))
-        .collect();
-    let near_kink = |i: usize| kinks.iter().any(|&k| k.abs_diff(i) as f64 * DT <= 0.06);
+    let (rec, p, truth, near) = clamped_sinusoid();
+    let near_kink = |i: usize| near[i];
     let (own, spread) = prediction_spread(&rec, "r.csv", Protocol::default(), &p, &truth);
     let w = motion_weights(&p, &own, &spread, MOTION_WEIGHT_FLOOR);
     assert!(w.iter().all(|w| *w > 0.0 && *w <= 1.0));
