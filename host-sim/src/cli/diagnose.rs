@@ -40,6 +40,12 @@ pub struct Args {
     /// Writes the final (extended) model as a parameter file.
     #[arg(long)]
     out_params: Option<PathBuf>,
+    /// Score every moving sample alike, without the motion weights (which discount the
+    /// samples whose force the measured motion does not resolve: abrupt stops, stick-slip).
+    /// The fitted model then answers for every sample, at the price of the diagnosis's
+    /// calibration, which was set with the weights.
+    #[arg(long)]
+    unweighted: bool,
     /// The true model of a simulated record (`simulate` writes FILE.truth.toml beside the CSV):
     /// gives the noise floor.
     #[arg(long)]
@@ -124,6 +130,7 @@ pub fn run(a: &Args) -> Result<()> {
         add: a.add.clone(),
         auto: if a.auto { 3 } else { 0 },
         truth,
+        unweighted: a.unweighted,
         ..Default::default()
     };
     let wall = std::time::Instant::now();
