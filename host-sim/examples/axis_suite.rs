@@ -40,6 +40,10 @@ struct Row {
     first_dbic: f64,
     baseline_pct: f64,
     added_pct: f64,
+    /// the baseline's error over the moving samples counted alike (no motion weights) [%]
+    baseline_plain_pct: f64,
+    /// the same with the hidden effect added [%]
+    added_plain_pct: f64,
     floor_pct: f64,
     /// the floor with the truth's dwell clock run on the measured motion instead of read from
     /// the record (differs from `floor_pct` on dwell records only) [%]
@@ -329,6 +333,8 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         first_dbic: f64::NAN,
         baseline_pct: f64::NAN,
         added_pct: f64::NAN,
+        baseline_plain_pct: f64::NAN,
+        added_plain_pct: f64::NAN,
         floor_pct: f64::NAN,
         floor_measured_clock_pct: f64::NAN,
         dwell_caution: None,
@@ -406,5 +412,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
     row.peak_trend_dbic = d.breakaway.trend.as_ref().map_or(f64::NAN, |t| t.delta_bic);
     row.baseline_pct = d.stages[0].fit.rel_err_pct;
     row.added_pct = d.stages[d.stages.len() - 1].fit.rel_err_pct;
+    row.baseline_plain_pct = d.stages[0].plain_rel_err_pct;
+    row.added_plain_pct = d.stages[d.stages.len() - 1].plain_rel_err_pct;
     row
 }
