@@ -53,7 +53,8 @@ struct Row {
     /// every candidate of the baseline, ranked: (effect, dBIC, error with it [%], detected,
     /// the error cut the decision weighs, significant)
     candidates: Vec<(String, f64, f64, bool, f64, bool)>,
-    /// the error the motion reading alone leaves open [%]
+    /// how far the first baseline's force moves with the position filter's bandwidth
+    /// (`Diagnosis::motion_spread_pct`) [%]
     motion_spread_pct: f64,
     /// fraction of the samples scored
     scored_fraction: f64,

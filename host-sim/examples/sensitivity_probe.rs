@@ -48,7 +48,12 @@ fn werr(p: &Prepared, w: &[f64], pred: &[f64]) -> f64 {
 fn probe(effect: Option<&'static str>, seed: u64) -> String {
     let (text, axis) = random_record(effect, seed);
     let rec = Record::parse(&text, Path::new("probe.csv")).expect("generated record");
-    let d = diagnose::diagnose(&rec, "probe.csv", &Options::default()).expect("diagnosis");
+    // the probe weighs the plain baseline's spread itself (it is what the weights came from)
+    let opts = Options {
+        unweighted: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "probe.csv", &opts).expect("diagnosis");
     let p = &d.prepared;
     let base = &d.stages[0].fit;
     let q = host_sim::signal::encoder_resolution(&rec.x);
@@ -82,8 +87,11 @@ fn probe(effect: Option<&'static str>, seed: u64) -> String {
     };
     let m: f64 = p.weight.iter().sum();
     let mse = base.rss / m;
-    let w: Vec<f64> = (0..p.len())
-        .map(|i| p.weight[i] / (1.0 + sm[i] / mse))
+    // the diagnosis's weights without their floor, on the scored samples
+    let w: Vec<f64> = diagnose::motion_weights(p, &base.prediction, &sm, 0.0)
+        .iter()
+        .zip(&p.weight)
+        .map(|(f, w)| f * w)
         .collect();
     let truth = p.filter(&generators::axis::truth_force(&axis, p));
     let kk: f64 = std::env::var("K")

@@ -326,12 +326,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
         println!("model as given: relative force error {g:.2} %");
     }
     print_breakaway(&d.breakaway);
-    println!(
-        "motion reading: the first baseline's force moves by {:.2} % (rms, of the force) when the \
-         position is filtered at 0.4..2.5x its cutoff; the errors below weigh each moving sample \
-         by how little its force moves so",
-        d.motion_spread_pct
-    );
+    println!("motion reading: {}", d.motion_note());
     for (i, s) in d.stages.iter().enumerate() {
         let m = &s.fit.model;
         let p = &m.friction.params;

@@ -63,9 +63,6 @@ pub struct Prepared {
     /// Norm of the filtered measured force over the scored samples, the error's denominator
     /// (weighted like the residual) \[N\].
     pub force_norm: f64,
-    /// Norm of the filtered measured force over the scored samples counted alike, whatever
-    /// their weight: the denominator of [`Self::rel_err_plain_pct_filtered`] \[N\].
-    pub plain_force_norm: f64,
     /// Norm of the filtered measured force over all samples \[N\].
     pub force_norm_all: f64,
     /// Stretches of uniform sampling between logger gaps (index ranges; one for most records).
@@ -268,7 +265,6 @@ impl Prepared {
             parallel,
             weight,
             force_norm,
-            plain_force_norm: force_norm,
             force_norm_all,
             segments,
             notes: uniform.notes,
@@ -341,28 +337,24 @@ impl Prepared {
             }
         }
         self.force_norm = scored_norm(&self.force, &self.weight);
-        self.plain_force_norm = scored_norm(
-            &self.force,
-            &self
-                .weight
-                .iter()
-                .map(|w| f64::from(*w > 0.0))
-                .collect::<Vec<_>>(),
-        );
+    }
+
+    /// `100 sqrt(sum e_i) / sqrt(sum F_i^2)` over the scored samples counted alike (every
+    /// weight above zero as 1, as before any [`Self::reweigh`]), for a squared force error
+    /// `e_i = square(i)` \[N^2\] at each sample [%].
+    pub fn plain_pct(&self, square: impl Fn(usize) -> f64) -> f64 {
+        let (e, f) = (0..self.len())
+            .filter(|&i| self.weight[i] > 0.0)
+            .fold((0.0, 0.0), |(e, f), i| {
+                (e + square(i), f + self.force[i] * self.force[i])
+            });
+        100.0 * (e / f).sqrt()
     }
 
     /// Relative force error of an already filtered prediction over the scored samples counted
-    /// alike (every weight above zero as 1), as before any [`Self::reweigh`] [%].
+    /// alike ([`Self::plain_pct`]) [%].
     pub fn rel_err_plain_pct_filtered(&self, filtered: &[f64]) -> f64 {
-        let rss: f64 = self
-            .force
-            .iter()
-            .zip(filtered)
-            .zip(&self.weight)
-            .filter(|(_, w)| **w > 0.0)
-            .map(|((f, q), _)| (f - q) * (f - q))
-            .sum();
-        100.0 * rss.sqrt() / self.plain_force_norm
+        self.plain_pct(|i| (self.force[i] - filtered[i]).powi(2))
     }
 
     /// Multiplies each sample's weight by `factor` (in (0, 1]: a sample scored stays scored)

@@ -358,6 +358,9 @@ pub struct Diagnosis {
     /// over the moving samples counted alike relative to the force. An upper bound on what the
     /// reading leaves open: the widest bandwidths blur what the record does resolve.
     pub motion_spread_pct: f64,
+    /// The fits and scores weigh each sample by [`motion_weights`] (false with
+    /// [`Options::unweighted`] or [`Options::leave_out_unresolved`]).
+    pub motion_weighted: bool,
     /// Effective independent samples used for the scores.
     pub effective_samples: f64,
     /// The practitioners' static tables: what every dynamic model must beat.
@@ -370,6 +373,25 @@ impl Diagnosis {
     /// The final model.
     pub fn model(&self) -> &AxisModel {
         &self.stages[self.stages.len() - 1].fit.model
+    }
+
+    /// What the motion reading does to the scores, in words: how far the first baseline's
+    /// force moves with the position filter's bandwidth, and whether the samples are weighed
+    /// by it.
+    pub fn motion_note(&self) -> String {
+        let bw = RESOLVE_BANDWIDTHS;
+        format!(
+            "the first baseline's force moves by {:.2} % (rms, of the force) when the position is \
+             filtered at {}..{}x its cutoff; {}",
+            self.motion_spread_pct,
+            bw[0],
+            bw[bw.len() - 1],
+            if self.motion_weighted {
+                "each moving sample weighs the less in the errors below, the more its force moves so"
+            } else {
+                "every moving sample weighs alike in the errors below (unweighted)"
+            }
+        )
     }
 }
 
@@ -1324,23 +1346,16 @@ pub fn unresolved(
 /// [`unresolved`] from a model's filtered prediction `own` and its spread
 /// ([`prediction_spread`]).
 fn unresolved_by_spread(p: &Prepared, own: &[f64], spread: &[f64], floor: f64) -> Vec<bool> {
-    let scored = p.weight.iter().sum::<f64>().max(1.0);
-    let threshold =
-        (p.weighted_rss_filtered(own) / scored).max((floor * p.force_norm).powi(2) / scored);
+    let threshold = residual_yardstick(p, own, floor);
     spread.iter().map(|s| *s > threshold).collect()
 }
 
-/// How much a prediction moves with the motion reading [%]: its spread ([`prediction_spread`])
-/// summed over the scored samples counted alike, relative to the scored force, like
-/// [`Prepared::rel_err_plain_pct_filtered`].
-pub fn motion_spread_pct(p: &Prepared, spread: &[f64]) -> f64 {
-    let s: f64 = spread
-        .iter()
-        .zip(&p.weight)
-        .filter(|(_, w)| **w > 0.0)
-        .map(|(s, _)| s)
-        .sum();
-    100.0 * s.sqrt() / p.plain_force_norm
+/// A model's mean square residual over the scored samples, `own` its filtered prediction, at
+/// least `floor^2` times the scored force's mean square \[N^2\]: what [`unresolved`] and
+/// [`motion_weights`] hold a prediction's spread against.
+fn residual_yardstick(p: &Prepared, own: &[f64], floor: f64) -> f64 {
+    let scored = p.weight.iter().sum::<f64>().max(1.0);
+    (p.weighted_rss_filtered(own) / scored).max((floor * p.force_norm).powi(2) / scored)
 }
 
 /// Floor under the model's part of [`motion_weights`]' residual variance, a fraction of the
@@ -1360,8 +1375,7 @@ pub const MOTION_WEIGHT_FLOOR: f64 = 0.01;
 /// Measured against scoring every sample alike on the calibration seeds (session 23): more
 /// effects right and fewer false positives at every error cut from 0 to 0.30.
 pub fn motion_weights(p: &Prepared, own: &[f64], spread: &[f64], floor: f64) -> Vec<f64> {
-    let scored = p.weight.iter().sum::<f64>().max(1.0);
-    let mse = (p.weighted_rss_filtered(own) / scored).max((floor * p.force_norm).powi(2) / scored);
+    let mse = residual_yardstick(p, own, floor);
     spread.iter().map(|s| mse / (mse + s)).collect()
 }
 
@@ -1449,7 +1463,8 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     let base = baseline(&p, opts, n_eff);
     let spread =
         spread.unwrap_or_else(|| prediction_spread(rec, name, opts.protocol, &p, &base.model).1);
-    let motion_spread_pct = motion_spread_pct(&p, &spread);
+    // scored like a model's error over the moving samples counted alike
+    let motion_spread_pct = p.plain_pct(|i| spread[i]);
     let mut stages = vec![stage(None, base, &p, &brk, fixed_mass, n_eff, true)];
     // the effects asked for, then (with `auto`) the first significant candidate each time
     for k in 0..add.len() + opts.auto {
@@ -1486,6 +1501,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     Ok(Diagnosis {
         noise_floor_pct: opts.truth.map(|t| p.rel_err_pct(&t.predict(&p))),
         motion_spread_pct,
+        motion_weighted: !opts.unweighted && opts.leave_out_unresolved.is_none(),
         prepared: p,
         given_rel_err_pct,
         stages,

@@ -493,13 +493,13 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         }
     }
     out += "<p>Error = 100 ||F - F_hat|| / ||F|| on the force filtered at 20 Hz, over the samples where the axis moves \
-            (while stuck, friction balances whatever force is applied and cannot be predicted from the motion), \
-            each weighed by how well the measured motion resolves its force.</p>";
+            (while stuck, friction balances whatever force is applied and cannot be predicted from the motion).</p>";
     out += &format!(
-        "<p>The first model's force moves by {:.2} % (rms, of the force) when the position is filtered at 0.4..2.5x \
-         its cutoff; where it moves most, a sample weighs least. Counting every moving sample alike: {:.2} % with the \
-         first model, {:.2} % with the final one.</p>",
-        d.motion_spread_pct, first.plain_rel_err_pct, last.plain_rel_err_pct
+        "<p>Motion reading: {}. Counting every moving sample alike: {:.2} % with the first model, {:.2} % with the \
+         final one.</p>",
+        escape(&d.motion_note()),
+        first.plain_rel_err_pct,
+        last.plain_rel_err_pct
     );
     if let Some(g) = d.given_rel_err_pct {
         out += &format!("<p>The model from the parameter file, as given: {g:.2} %.</p>");
