@@ -254,7 +254,7 @@ pub struct Candidate {
     pub detected: bool,
     /// The relative cut of the record's error the decision rule weighs (a fraction; negative
     /// when the candidate is worse): against the current model, or for `dwell_stiction`
-    /// against its rest-independent twin (see [`decision_cut`]).
+    /// against its rest-independent twin (see `decision_cut`).
     pub error_cut: f64,
     /// Significant: detected, and its `error_cut` is at least [`MIN_ERROR_CUT`].
     pub significant: bool,
@@ -1214,10 +1214,10 @@ struct RestNull {
 /// What a `dwell_stiction` candidate's growth with the rest time was weighed by.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct DwellEvidence {
-    /// Evidence for the growth against the rest-independent twin ([`rest_independent_twin`]):
+    /// Evidence for the growth against the rest-independent twin (`rest_independent_twin`):
     /// `n_eff ln(RSS_twin / RSS)` plus the breakaway peaks' dBIC against the twin's.
     pub growth_dbic: f64,
-    /// The twin's error [%] (the reference of the decision's cut, [`decision_cut`]).
+    /// The twin's error [%] (the reference of the decision's cut, `decision_cut`).
     pub twin_rel_err_pct: f64,
     /// The candidate's cut of the current model's error (a fraction).
     pub record_cut: f64,
