@@ -76,9 +76,6 @@ pub struct Prepared {
     /// Top speed where the axis moves: the 99th percentile of |v| over the scored samples
     /// [m/s] (robust to a single spike, unlike the maximum).
     pub top_speed: f64,
-    /// The reading shows no motion the encoder resolves ([`reading_at_rest`]): there a model's
-    /// bristle carries the measured force ([`AxisModel::simulate`]).
-    pub at_rest: Vec<bool>,
 }
 
 /// Norm of a force column over the scored samples (`sqrt(sum w f^2)`) \[N\].
@@ -218,7 +215,6 @@ impl Prepared {
         // velocity reads
         let count = crate::signal::encoder_resolution(&rec.x);
         let rest = reading_at_rest(&rec.x, &segments, count, dt);
-        let at_rest = rest.clone();
         for (w, r) in weight.iter_mut().zip(&rest) {
             if *r {
                 *w = 0.0;
@@ -275,7 +271,6 @@ impl Prepared {
             max_abs_force,
             max_abs_velocity,
             top_speed,
-            at_rest,
         })
     }
 
@@ -415,14 +410,7 @@ pub struct Simulation {
 }
 
 impl AxisModel {
-    /// Runs the friction model (the core's exact step) along the measured motion. Where the
-    /// reading is at rest ([`Prepared::at_rest`]) the bristle carries the measured force less
-    /// `M a` and the offset, `z = (F - M a - F0) / sigma0`, bounded by the static level in each
-    /// direction: a body at rest is in equilibrium, its friction is what is applied, and the
-    /// deflection a quantised reading would leave (the last move's, carried through the rest,
-    /// since `dz/dt = 0` at `v = 0`) is not the one the next departure starts from. With that
-    /// stale deflection a dwell term absorbed up to 60 % of effect-free records' errors at
-    /// their departures (calibration seeds 100..199, session 24; README).
+    /// Runs the friction model (the core's exact step) along the measured motion.
     pub fn simulate(&self, p: &Prepared) -> Simulation {
         self.simulate_given(p, None)
     }
@@ -461,18 +449,9 @@ impl AxisModel {
                 let c = p.conditions(i, &reference);
                 let v = p.v_step[i];
                 let decay = stribeck_decay.map(|d| d[i]);
-                let (mut f, g) = self
+                let (f, g) = self
                     .friction
                     .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt, decay);
-                if p.at_rest[i] && sigma0 > 0.0 {
-                    // at rest the contact carries what the actuator applies, up to its
-                    // static level in that direction
-                    let (fw, bw) = self.friction.levels_by_direction(&c, st.dwell_time);
-                    let held = p.force[i] - self.mass_kg * p.a[i] - self.friction.offset_force();
-                    let z = (held / sigma0).clamp(-bw.static_ / sigma0, fw.static_ / sigma0);
-                    f += sigma0 * (z - st.z);
-                    st.z = z;
-                }
                 out.friction.push(f);
                 out.bristle.push((sigma0 * st.z / g).clamp(-1.0, 1.0));
                 out.dwell.push(st.dwell_time);
