@@ -127,8 +127,7 @@ fn clamped_sinusoid() -> (Record, Prepared, AxisModel, Vec<bool>) {
 #[test]
 fn unresolved_samples_are_the_abrupt_stops_and_a_high_floor_keeps_every_sample() {
     use host_sim::diagnose::unresolved;
-    let (rec, p, truth, near) = clamped_sinusoid();
-    let near_kink = |i: usize| near[i];
+    let (rec, p, truth, near_kink) = clamped_sinusoid();
     let scored = p.weight.iter().filter(|w| **w > 0.0).count();
     let mut left_out = Vec::new();
     for floor in [0.0, 0.01] {
@@ -140,7 +139,7 @@ fn unresolved_samples_are_the_abrupt_stops_and_a_high_floor_keeps_every_sample()
         let mut kept = p.clone();
         kept.leave_out(&drop);
         let after = kept.rel_err_pct(&truth.predict(&kept));
-        let far: Vec<&usize> = out.iter().filter(|&&i| !near_kink(i)).collect();
+        let far: Vec<&usize> = out.iter().filter(|&&i| !near_kink[i]).collect();
         println!(
             "floor {floor}: left out {} of {scored} scored samples, {} farther than 60 ms from \
              a kink; true model {before:.4} % -> {after:.4} %",
@@ -174,14 +173,13 @@ fn unresolved_samples_are_the_abrupt_stops_and_a_high_floor_keeps_every_sample()
 #[test]
 fn motion_weights_discount_the_kinks_and_keep_smooth_motion() {
     use host_sim::diagnose::{motion_weights, prediction_spread, MOTION_WEIGHT_FLOOR};
-    let (rec, p, truth, near) = clamped_sinusoid();
-    let near_kink = |i: usize| near[i];
+    let (rec, p, truth, near_kink) = clamped_sinusoid();
     let (own, spread) = prediction_spread(&rec, "r.csv", Protocol::default(), &p, &truth);
     let w = motion_weights(&p, &own, &spread, MOTION_WEIGHT_FLOOR);
     assert!(w.iter().all(|w| *w > 0.0 && *w <= 1.0));
     let scored = |near: bool| -> Vec<f64> {
         (0..p.len())
-            .filter(|&i| p.weight[i] > 0.0 && near_kink(i) == near)
+            .filter(|&i| p.weight[i] > 0.0 && near_kink[i] == near)
             .map(|i| w[i])
             .collect()
     };

@@ -1441,13 +1441,16 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     let mut n_eff = fit::effective_samples(&p, opts.protocol.parallel_cutoff_hz);
     let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
     // a first baseline, and how much of its prediction the motion reading leaves open
-    let mut spread = None;
+    let (mut spread, mut motion_weighted) = (None, false);
     if !opts.unweighted || opts.leave_out_unresolved.is_some() {
         let first = baseline(&p, opts, n_eff);
         let (own, s) = prediction_spread(rec, name, opts.protocol, &p, &first.model);
         match opts.leave_out_unresolved {
             Some(floor) => p.leave_out(&unresolved_by_spread(&p, &own, &s, floor)),
-            None => p.reweigh(&motion_weights(&p, &own, &s, MOTION_WEIGHT_FLOOR)),
+            None => {
+                p.reweigh(&motion_weights(&p, &own, &s, MOTION_WEIGHT_FLOOR));
+                motion_weighted = true;
+            }
         }
         n_eff = fit::effective_samples(&p, opts.protocol.parallel_cutoff_hz);
         spread = Some(s);
@@ -1501,7 +1504,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     Ok(Diagnosis {
         noise_floor_pct: opts.truth.map(|t| p.rel_err_pct(&t.predict(&p))),
         motion_spread_pct,
-        motion_weighted: !opts.unweighted && opts.leave_out_unresolved.is_none(),
+        motion_weighted,
         prepared: p,
         given_rel_err_pct,
         stages,
