@@ -64,6 +64,8 @@ struct Row {
     peak_trend_dbic: f64,
     /// why the baseline's `dwell_stiction` candidate cannot be significant, if a test says so
     dwell_caution: Option<String>,
+    /// the numbers the baseline's `dwell_stiction` decision weighs
+    dwell: Option<diagnose::DwellEvidence>,
 }
 
 fn main() {
@@ -339,6 +341,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         floor_pct: f64::NAN,
         floor_measured_clock_pct: f64::NAN,
         dwell_caution: None,
+        dwell: None,
         without_effect_pct: f64::NAN,
         candidates: Vec::new(),
         motion_spread_pct: f64::NAN,
@@ -407,6 +410,10 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         .iter()
         .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
         .and_then(|c| c.caution.clone());
+    row.dwell = cands
+        .iter()
+        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
+        .and_then(|c| c.dwell);
     row.motion_spread_pct = d.motion_spread_pct;
     row.scored_fraction = p.scored_fraction();
     row.departures = d.breakaway.departures.len();

@@ -54,6 +54,29 @@ fn no_effect_is_claimed_on_effect_free_axes() {
     }
 }
 
+/// The stage's model is the best of its family its candidates reveal
+/// (`diagnose::BETTER_START_CUT`): on the effect-free hydraulic calibration record 185 the
+/// baseline's search of the Stribeck velocity stopped at 0.73 % where the generator's truth
+/// scores 0.29 %, every leading candidate's own search went on to 0.31 %, and one was called
+/// significant. Refitted from there, the baseline is within 1.2x the truth and nothing is
+/// called.
+#[test]
+fn a_baseline_goes_where_its_candidates_show_it_can() {
+    let (d, axis) = diagnose(None, 185, &[]);
+    let floor = truth_error_pct(&axis, &d.prepared);
+    let base = d.stages[0].fit.rel_err_pct;
+    println!("baseline {base:.3} %, truth {floor:.3} %: {}", report(&d));
+    assert!(
+        base <= 1.2 * floor,
+        "baseline {base:.3} %, truth {floor:.3} %"
+    );
+    assert!(
+        d.stages[0].candidates.iter().all(|c| !c.significant),
+        "{}",
+        report(&d)
+    );
+}
+
 /// A strong direction dependence on an axis whose baseline has no viscous friction: the
 /// asymmetry's viscous-ratio regressor is all zero there, which once turned the normal
 /// equations into NaN and froze every asymmetry fit at its start. (Seed 1007: since the
@@ -80,10 +103,10 @@ fn asymmetry_is_found_where_the_baseline_has_no_viscous_term() {
 }
 
 /// Parsimony between nested effects (`diagnose::NESTED`): on an independent offset record
-/// (calibration seed 1108) the asymmetry candidate leads the offset (its two extra ratios
-/// absorb more of the biased baseline's misfit), but with the offset added it cuts the error
-/// by a few percent only: the offset is the first significant candidate, and the asymmetry
-/// says why it is not. Without the rule the answer was asymmetry.
+/// (calibration seed 1108) the asymmetry candidate leads the offset
+/// (its two extra ratios absorb more of the biased baseline's misfit), but with the offset
+/// added it cuts the error by a few percent only: the offset is the first significant
+/// candidate, and the asymmetry says why it is not. Without the rule the answer was asymmetry.
 #[test]
 fn an_offset_is_not_read_as_the_asymmetry_that_contains_it() {
     let (d, _) = diagnose(Some("offset"), 1108, &[]);
@@ -110,10 +133,11 @@ fn an_offset_is_not_read_as_the_asymmetry_that_contains_it() {
 /// The motion weights are on in every diagnosis (`diagnose::motion_weights`): on a stick-slip
 /// Stribeck record of the calibration seeds (1504, a force actuator) the weighted baseline errs
 /// less than over every moving sample alike, since the weights discount the abrupt stops
-/// where it errs most, and the Stribeck shape, missed when every sample counts alike, is the
-/// first significant candidate. Without the weights the two errors are one.
+/// where it errs most, and the Stribeck shape is the first significant candidate. Without the
+/// weights the two errors are one. (Until session 24 the unweighted fit missed the Stribeck
+/// shape here; with the bristle carrying the measured force at rest it finds it too.)
 #[test]
-fn the_motion_weights_find_a_stribeck_shape_that_scoring_every_sample_alike_misses() {
+fn the_motion_weights_discount_the_abrupt_stops_of_a_stick_slip_record() {
     let (text, _) = random_record(Some("stribeck_shape"), 1504);
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
     let run = |unweighted: bool| {
@@ -150,7 +174,7 @@ fn the_motion_weights_find_a_stribeck_shape_that_scoring_every_sample_alike_miss
         "{}",
         report(&weighted)
     );
-    assert_ne!(first(&plain), Some("stribeck_shape"), "{}", report(&plain));
+    assert_eq!(first(&plain), Some("stribeck_shape"), "{}", report(&plain));
 }
 
 /// Friction that ripples along the stroke (not a linear gradient): the cosine terms of the

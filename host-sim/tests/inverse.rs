@@ -2,7 +2,7 @@
 //! not scored (the filters' transients, a force whose motion the record no longer holds).
 
 use host_sim::diagnose::inverse::{
-    reading_at_rest, AxisModel, Prepared, Protocol, REST_COUNTS, STUCK_SPEED,
+    reading_at_rest, reading_inside_rest, AxisModel, Prepared, Protocol, REST_COUNTS, STUCK_SPEED,
 };
 use host_sim::record::Record;
 use lugre_servo::friction::{FrictionModel, LugreParams};
@@ -44,6 +44,38 @@ fn a_toggling_count_is_rest_and_slow_motion_is_not() {
     assert!(reading_at_rest(&x, &whole, 0.0, DT).iter().all(|r| !*r));
     // what the threshold means: less than REST_COUNTS counts in 10 ms is slower than STUCK_SPEED
     const { assert!(REST_COUNTS * COUNT / 0.01 < STUCK_SPEED) };
+}
+
+/// Inside a rest means still over both windows: at a departure from a rest the last 10 ms of
+/// the rest are at rest by the window before them, not inside it (the holding force is
+/// imposed only there, `AxisModel::simulate`).
+#[test]
+fn inside_a_rest_leaves_out_the_window_before_a_departure() {
+    // rest for 500 samples, then a ramp at 10 mm/s (10 counts per period)
+    let x: Vec<f64> = (0..1000)
+        .map(|i| {
+            quantised(if i < 500 {
+                0.0
+            } else {
+                1e-5 * (i - 500) as f64
+            })
+        })
+        .collect();
+    let whole: Vec<std::ops::Range<usize>> = std::iter::once(0..x.len()).collect();
+    let (either, both) = (
+        reading_at_rest(&x, &whole, COUNT, DT),
+        reading_inside_rest(&x, &whole, COUNT, DT),
+    );
+    assert!(both[10..490].iter().all(|r| *r), "the rest's inside");
+    assert!(
+        either[490..500].iter().all(|r| *r),
+        "still by the window before"
+    );
+    assert!(
+        both[492..].iter().all(|r| !*r),
+        "not inside: the departure is near"
+    );
+    assert!(either[502..].iter().all(|r| !*r) && both[502..].iter().all(|r| !*r));
 }
 
 fn model() -> AxisModel {

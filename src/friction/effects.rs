@@ -398,6 +398,21 @@ impl<T: Float> Effects<T> {
         }
     }
 
+    /// The same effects with the one of this kind switched off.
+    pub fn without(mut self, kind: EffectKind) -> Self {
+        match kind {
+            EffectKind::Asymmetry => self.asymmetry = None,
+            EffectKind::Offset => self.offset = None,
+            EffectKind::LoadDependence => self.load_dependence = None,
+            EffectKind::PositionDependence => self.position_dependence = None,
+            EffectKind::TemperatureDependence => self.temperature_dependence = None,
+            EffectKind::StribeckShape => self.stribeck_shape = None,
+            EffectKind::ViscousPower => self.viscous_power = None,
+            EffectKind::DwellStiction => self.dwell_stiction = None,
+        }
+        self
+    }
+
     /// The kinds switched on, in [`EffectKind::ALL`] order.
     pub fn kinds(&self) -> impl Iterator<Item = EffectKind> + '_ {
         EffectKind::ALL.into_iter().filter(|k| self.has(*k))

@@ -481,7 +481,10 @@ impl Axis {
     /// The true friction along a given motion (for the noise floor: the true model driven by
     /// the measured motion): per sample the mean velocity `v_step[i]` over the interval ending
     /// at sample i, restarted at each segment's first sample. The dwell clock is the record's
-    /// own ([`Axis::dwell_trace`]) where it is known.
+    /// own ([`Axis::dwell_trace`]) where it is known. `held`: where the first is true the reading
+    /// is at rest, and the bristle carries the second (the force less `M a` \[N\]) up to the
+    /// static level in each direction, as the diagnosis's model does (so the floor is the
+    /// truth given the same information).
     pub fn friction_along(
         &self,
         t: &[f64],
@@ -491,6 +494,7 @@ impl Axis {
         temp: Option<&[f64]>,
         segments: &[std::ops::Range<usize>],
         dt: f64,
+        held: Option<(&[bool], &[f64])>,
     ) -> Vec<f64> {
         let mut out = vec![0.0; x.len()];
         let h = dt / SUB as f64;
@@ -512,6 +516,16 @@ impl Axis {
                     }
                     (f, slip) = self.friction_step(&mut z, v, xi, ps, tc, dwell, h);
                 }
+                if let Some((_, force)) = held.filter(|(rest, _)| rest[i]) {
+                    // at rest the contact carries what is applied, up to its static level in
+                    // each direction (the diagnosis's model is treated alike)
+                    let (g_fw, _, extra) = self.terms(1e-12, x[i], ps, tc, dwell);
+                    let (g_bw, _, _) = self.terms(-1e-12, x[i], ps, tc, dwell);
+                    let zn = ((force[i] - extra) / self.sigma0)
+                        .clamp(-g_bw / self.sigma0, g_fw / self.sigma0);
+                    f += self.sigma0 * (zn - z);
+                    z = zn;
+                }
                 out[i] = f;
             }
         }
@@ -523,6 +537,12 @@ impl Axis {
 /// the prepared record, unfiltered) \[N\]. The physics stays the generator's own; only the
 /// measured motion is the pipeline's.
 pub fn truth_force(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> Vec<f64> {
+    let held: Vec<f64> = p
+        .force_motion_band
+        .iter()
+        .zip(&p.a)
+        .map(|(f, a)| f - axis.mass_kg * a)
+        .collect();
     let friction = axis.friction_along(
         &p.t,
         &p.x,
@@ -531,6 +551,7 @@ pub fn truth_force(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> Ve
         p.temperature.as_deref(),
         &p.segments,
         p.dt,
+        Some((&p.at_rest[..], &held[..])),
     );
     p.a.iter()
         .zip(&friction)
