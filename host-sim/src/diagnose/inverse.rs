@@ -510,7 +510,10 @@ impl AxisModel {
                     let held = p.force_motion_band[i]
                         - self.mass_kg * p.a[i]
                         - self.friction.offset_force();
-                    let z = (held / sigma0).clamp(-bw.static_ / sigma0, fw.static_ / sigma0);
+                    // (a level that is not a positive number, from an effect's scaling far
+                    // outside its range, bounds at zero: `clamp` must never see min > max)
+                    let (up, down) = (fw.static_.max(0.0), bw.static_.max(0.0));
+                    let z = (held / sigma0).clamp(-down / sigma0, up / sigma0);
                     f += sigma0 * (z - st.z);
                     st.z = z;
                 }
