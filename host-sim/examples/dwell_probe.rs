@@ -106,7 +106,8 @@ fn main() {
             axis.actuator, axis.mass_kg, axis.sigma0, axis.static_n, axis.shape, meas.len(), rms(&meas, &pt), rms(&pt, &pn), rms(&meas, &pb), rms(&meas, &pd),
             brk.trend.as_ref().map(|t| (t.increase_n, t.delta_bic)), dw.and_then(|c| c.caution.clone()));
         s += &format!("  residual peaks against the rest: rank correlation {sp:.2}, trend dBIC {tb:.1}, dF {tdf:.1} N\n");
-        // the decision's own residual trend (its windows on the baseline's prediction), and
+        // the residual trend (its windows on the baseline's prediction; a gate of the decision
+        // until session 25), and
         // the same trend on the friction: the force less the baseline's inertia, in the band
         let rt = brk.unexplained_trend(&base.fit.prediction);
         let inertia = p.filter(&p.a);

@@ -109,22 +109,30 @@ fn asymmetry_is_found_where_the_baseline_has_no_viscous_term() {
 /// candidate, and the asymmetry says why it is not. Without the rule the answer was asymmetry.
 #[test]
 fn an_offset_is_not_read_as_the_asymmetry_that_contains_it() {
-    let (d, _) = diagnose(Some("offset"), 1108, &[]);
+    nested_answer(("offset", 1108), "asymmetry", "contains offset");
+}
+
+/// The parsimony check between nested effects on an independent record (`hidden`, `seed`):
+/// as candidates `set_aside` leads the hidden effect (the premise), it is neither detected
+/// nor significant, its caution says why (`why` in it), and the hidden effect is the first
+/// significant candidate.
+fn nested_answer((hidden, seed): (&'static str, u64), set_aside: &str, why: &str) {
+    let (d, _) = diagnose(Some(hidden), seed, &[]);
     let c = &d.stages[0].candidates;
     println!("{}", report(&d));
     let named = |n: &str| c.iter().find(|c| c.kind.name() == n).unwrap();
-    let (asym, offset) = (named("asymmetry"), named("offset"));
+    let (aside, answer) = (named(set_aside), named(hidden));
     assert!(
-        asym.delta_bic > offset.delta_bic,
-        "the premise: as candidates the larger effect leads ({})",
+        aside.delta_bic > answer.delta_bic,
+        "the premise: as candidates {set_aside} leads ({})",
         report(&d)
     );
-    assert!(!asym.significant && !asym.detected, "{}", report(&d));
-    let why = asym.caution.as_deref().unwrap_or_default();
-    assert!(why.contains("contains offset"), "{why}");
+    assert!(!aside.significant && !aside.detected, "{}", report(&d));
+    let caution = aside.caution.as_deref().unwrap_or_default();
+    assert!(caution.contains(why), "{caution}");
     assert_eq!(
         c.iter().find(|c| c.significant).map(|c| c.kind.name()),
-        Some("offset"),
+        Some(hidden),
         "{}",
         report(&d)
     );
@@ -137,25 +145,7 @@ fn an_offset_is_not_read_as_the_asymmetry_that_contains_it() {
 /// candidate, and the offset says why it is not. Without the check the answer was offset.
 #[test]
 fn an_asymmetry_is_not_read_as_the_offset_it_contains() {
-    let (d, _) = diagnose(Some("asymmetry"), 1020, &[]);
-    let c = &d.stages[0].candidates;
-    println!("{}", report(&d));
-    let named = |n: &str| c.iter().find(|c| c.kind.name() == n).unwrap();
-    let (asym, offset) = (named("asymmetry"), named("offset"));
-    assert!(
-        offset.delta_bic > asym.delta_bic,
-        "the premise: as candidates the simpler effect leads ({})",
-        report(&d)
-    );
-    assert!(!offset.significant && !offset.detected, "{}", report(&d));
-    let why = offset.caution.as_deref().unwrap_or_default();
-    assert!(why.contains("contains it"), "{why}");
-    assert_eq!(
-        c.iter().find(|c| c.significant).map(|c| c.kind.name()),
-        Some("asymmetry"),
-        "{}",
-        report(&d)
-    );
+    nested_answer(("asymmetry", 1020), "offset", "contains it");
 }
 
 /// The motion weights are on in every diagnosis (`diagnose::motion_weights`): on a stick-slip

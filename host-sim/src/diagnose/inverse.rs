@@ -82,7 +82,7 @@ pub struct Prepared {
     pub top_speed: f64,
     /// Inside a rest of the reading ([`reading_inside_rest`]): there a model's bristle carries
     /// the measured force ([`AxisModel::simulate`]).
-    pub at_rest: Vec<bool>,
+    pub inside_rest: Vec<bool>,
 }
 
 /// Norm of a force column over the scored samples (`sqrt(sum w f^2)`) \[N\].
@@ -256,7 +256,7 @@ impl Prepared {
         // velocity reads
         let count = crate::signal::encoder_resolution(&rec.x);
         let rest = reading_at_rest(&rec.x, &segments, count, dt);
-        let at_rest = reading_inside_rest(&rec.x, &segments, count, dt);
+        let inside_rest = reading_inside_rest(&rec.x, &segments, count, dt);
         for (w, r) in weight.iter_mut().zip(&rest) {
             if *r {
                 *w = 0.0;
@@ -314,7 +314,7 @@ impl Prepared {
             max_abs_force,
             max_abs_velocity,
             top_speed,
-            at_rest,
+            inside_rest,
         })
     }
 
@@ -455,7 +455,7 @@ pub struct Simulation {
 
 impl AxisModel {
     /// Runs the friction model (the core's exact step) along the measured motion. Inside a
-    /// rest of the reading ([`Prepared::at_rest`]) the bristle carries the measured force less
+    /// rest of the reading ([`Prepared::inside_rest`]) the bristle carries the measured force less
     /// `M a` and the offset, `z = (F - M a - F0) / sigma0`, bounded by the static level in each
     /// direction: a body at rest is in equilibrium, its friction is what is applied, and the
     /// deflection a quantised reading would leave (the last move's, carried through the rest,
@@ -493,6 +493,8 @@ impl AxisModel {
             deflection_rate: Vec::with_capacity(n),
         };
         let sigma0 = self.friction.params.bristle_stiffness();
+        // the holding force at rest: what the actuator applies less the constant offset
+        let (holds, offset) = (sigma0 > 0.0, self.friction.offset_force());
         for r in &p.segments {
             // the friction state restarts at each segment (nothing is known across a gap)
             let mut st = FrictionState::default();
@@ -503,13 +505,11 @@ impl AxisModel {
                 let (mut f, g) = self
                     .friction
                     .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt, decay);
-                if p.at_rest[i] && sigma0 > 0.0 {
+                if holds && p.inside_rest[i] {
                     // at rest the contact carries what the actuator applies, up to its
                     // static level in that direction
                     let (fw, bw) = self.friction.levels_by_direction(&c, st.dwell_time);
-                    let held = p.force_motion_band[i]
-                        - self.mass_kg * p.a[i]
-                        - self.friction.offset_force();
+                    let held = p.force_motion_band[i] - self.mass_kg * p.a[i] - offset;
                     // (a level that is not a positive number, from an effect's scaling far
                     // outside its range, bounds at zero: `clamp` must never see min > max)
                     let (up, down) = (fw.static_.max(0.0), bw.static_.max(0.0));

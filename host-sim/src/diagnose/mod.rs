@@ -878,7 +878,8 @@ fn prefer_nested(
 
 /// The other way round of [`prefer_nested`]: where the simpler effect of a nested pair is the
 /// first significant candidate and the larger one is significant too, the simpler one is fitted
-/// as a stage's search would from the static table ([`stage_fit`]'s second start) and the
+/// as a stage's search would from the static table ([`from_static_table`], [`stage_fit`]'s
+/// second start) and the
 /// larger one judged on top of it, by the same rule. If it is significant there, it explains
 /// what the simpler one cannot: the simpler one is marked with a caution and is neither
 /// detected nor significant, and the larger one is the answer. (As candidates the larger one's
@@ -904,10 +905,7 @@ fn larger_on_top(
     // the stage's start from the static table only: both starts cost 1.5 s on a 60 s offset
     // record, a third of the diagnosis's budget, and the candidate's start alone (one round or
     // two) read calibration offset records as asymmetry (5 of 30, 1 of 30)
-    let mut restart = static_seed(p, fixed_mass);
-    restart.friction.effects = simpler.model.friction.effects;
-    let restart = fit::refit(&restart, p, fixed_mass, n_eff);
-    let with_nested = polish(&restart, Some(nested), p, fixed_mass, n_eff, 2, true);
+    let with_nested = from_static_table(nested, simpler, p, fixed_mass, n_eff);
     let on_top = rank_among(p, brk, &with_nested, fixed_mass, n_eff, Some(larger));
     if let Some(c) = on_top.first().filter(|c| c.significant) {
         let s = &mut out[first];
@@ -1260,6 +1258,17 @@ struct RestNull {
     rel_err_pct: f64,
 }
 
+impl RestNull {
+    /// The current model standing in for a twin that scored worse.
+    fn of(current: &Current) -> Self {
+        Self {
+            rss: current.fit.rss,
+            peak_rss: current.peak_rss,
+            rel_err_pct: current.fit.rel_err_pct,
+        }
+    }
+}
+
 /// What a `dwell_stiction` candidate's growth with the rest time was weighed by.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct DwellEvidence {
@@ -1306,11 +1315,7 @@ fn rest_independent_twin(
             rel_err_pct: null.rel_err_pct,
         }
     } else {
-        RestNull {
-            rss: current.fit.rss,
-            peak_rss: current.peak_rss,
-            rel_err_pct: current.fit.rel_err_pct,
-        }
+        RestNull::of(current)
     })
 }
 
@@ -1537,12 +1542,7 @@ fn stage_fit(
 ) -> Fit {
     let (from_candidate, from_table) = rayon::join(
         || polish(candidate, Some(e), p, fixed_mass, n_eff, 2, true),
-        || {
-            let mut restart = static_seed(p, fixed_mass);
-            restart.friction.effects = candidate.model.friction.effects;
-            let restart = fit::refit(&restart, p, fixed_mass, n_eff);
-            polish(&restart, Some(e), p, fixed_mass, n_eff, 2, true)
-        },
+        || from_static_table(e, candidate, p, fixed_mass, n_eff),
     );
     if from_table.rss < from_candidate.rss {
         from_table
@@ -1593,6 +1593,21 @@ fn rank_from_best_start(
         candidates = rank_candidates(p, brk, &fit, fixed_mass, n_eff);
     }
     (fit, candidates)
+}
+
+/// [`stage_fit`]'s second start: the static table with the candidate's effects, refitted and
+/// searched as a stage is (two rounds, the stiffness too).
+fn from_static_table(
+    e: EffectKind,
+    candidate: &Fit,
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) -> Fit {
+    let mut restart = static_seed(p, fixed_mass);
+    restart.friction.effects = candidate.model.friction.effects;
+    let restart = fit::refit(&restart, p, fixed_mass, n_eff);
+    polish(&restart, Some(e), p, fixed_mass, n_eff, 2, true)
 }
 
 fn stage(

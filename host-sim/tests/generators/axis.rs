@@ -551,7 +551,7 @@ pub fn truth_force(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> Ve
         p.temperature.as_deref(),
         &p.segments,
         p.dt,
-        Some((&p.at_rest[..], &held[..])),
+        Some((&p.inside_rest[..], &held[..])),
     );
     p.a.iter()
         .zip(&friction)
