@@ -101,9 +101,9 @@ fn parameter_file_messages() {
     );
     assert_eq!(
         read(&format!(
-            "{GOOD}[effects.position_dependence]\ngradient_n_per_m = 1\ncenter_m = 0\ncosine_n = [1, 2, 3, 4, 5]\nhalf_span_m = 0.1\n"
+            "{GOOD}[effects.position_dependence]\ngradient_n_per_m = 1\ncenter_m = 0\ncosine_n = [1, 2, 3, 4, 5, 6, 7, 8, 9]\nhalf_span_m = 0.1\n"
         )),
-        "DIR/p.toml: [effects.position_dependence] cosine_n: at most 4 terms, got 5"
+        "DIR/p.toml: [effects.position_dependence] cosine_n: at most 8 terms, got 9"
     );
     let dwell = "[effects.dwell_stiction]\nmax_increase_n = 50\ntime_constant_s = 0.5\nstick_velocity_m_per_s = 2e-4\n";
     assert_eq!(

@@ -542,8 +542,9 @@ mod tests {
         let mut m = base();
         let mut pd = PositionDependence::linear(0.0, 0.2);
         pd.half_span = 0.1;
-        pd.cosine = [20.0, -10.0, 5.0, 7.0];
-        pd.terms = 3; // the fourth term is ignored
+        let c = [20.0, -10.0, 5.0, 7.0, -3.0, 2.0, 1.5, -4.0];
+        pd.cosine = c;
+        pd.terms = 7; // the eighth term is ignored
         m.effects.position_dependence = Some(pd);
         let at = |x| {
             m.levels(0.01, &Conditions { position: x, ..REF }, 0.0)
@@ -552,8 +553,10 @@ mod tests {
         for x in [0.1, 0.13, 0.2, 0.27, 0.3] {
             let u: f64 = (x - 0.2) / 0.2 + 0.5;
             let pi = core::f64::consts::PI;
-            let expect = 506.0 + 20.0 * (pi * u).cos() - 10.0 * (2.0 * pi * u).cos()
-                + 5.0 * (3.0 * pi * u).cos();
+            let expect = 506.0
+                + (1..=7)
+                    .map(|j| c[j - 1] * (j as f64 * pi * u).cos())
+                    .sum::<f64>();
             assert!(
                 (at(x) - expect).abs() < 1e-9,
                 "x {x}: {} vs {expect}",

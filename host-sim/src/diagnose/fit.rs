@@ -75,10 +75,19 @@ impl Param {
             Param::Offset => "force_n",
             Param::LoadCoefficient => "coefficient_n_per_pa",
             Param::PositionGradient => "gradient_n_per_m",
-            Param::PositionCosine(j) => ["cosine_1_n", "cosine_2_n", "cosine_3_n", "cosine_4_n"]
-                .get(j)
-                .copied()
-                .unwrap_or("cosine_n"),
+            Param::PositionCosine(j) => [
+                "cosine_1_n",
+                "cosine_2_n",
+                "cosine_3_n",
+                "cosine_4_n",
+                "cosine_5_n",
+                "cosine_6_n",
+                "cosine_7_n",
+                "cosine_8_n",
+            ]
+            .get(j)
+            .copied()
+            .unwrap_or("cosine_n"),
             Param::TempCoulomb => "coulomb_per_kelvin",
             Param::DwellIncrease => "max_increase_n",
         }
@@ -933,12 +942,39 @@ pub fn grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     grid: &[f64],
     f: F,
 ) -> GridResult<T> {
+    grid_min_extending(grid, grid.len(), f)
+}
+
+/// [`grid_min`] over the first `first` points of `grid`, extended to the rest of it only when
+/// the best of those is the last (a model order whose higher values are tried only when the
+/// lower ones keep improving).
+pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
+    grid: &[f64],
+    first: usize,
+    f: F,
+) -> GridResult<T> {
     use rayon::prelude::*;
-    let vals: Vec<(f64, T)> = grid.par_iter().map(|&x| f(x)).collect();
+    let argmin = |vals: &[(f64, T)]| {
+        (0..vals.len())
+            .min_by(|&a, &b| vals[a].0.total_cmp(&vals[b].0))
+            .unwrap_or(0)
+    };
+    let first = first.clamp(1, grid.len().max(1));
+    let mut vals: Vec<(f64, T)> = grid[..first.min(grid.len())]
+        .par_iter()
+        .map(|&x| f(x))
+        .collect();
+    if vals.len() < grid.len() && argmin(&vals) + 1 == vals.len() {
+        vals.extend(
+            grid[vals.len()..]
+                .par_iter()
+                .map(|&x| f(x))
+                .collect::<Vec<_>>(),
+        );
+    }
+    let grid = &grid[..vals.len()];
     let mut profile: Vec<(f64, f64)> = grid.iter().zip(&vals).map(|(x, (c, _))| (*x, *c)).collect();
-    let ib = (0..vals.len())
-        .min_by(|&a, &b| vals[a].0.total_cmp(&vals[b].0))
-        .unwrap_or(0);
+    let ib = argmin(&vals);
     let mut best = (grid[ib], vals[ib].clone());
     if ib > 0 && ib + 1 < grid.len() {
         let (x0, x1, x2) = (grid[ib - 1], grid[ib], grid[ib + 1]);
@@ -1118,5 +1154,31 @@ mod box_solve_tests {
             (x[0] + 2.0).abs() < 1e-9 && (x[1] - 3.0).abs() < 1e-9,
             "{x}"
         );
+    }
+}
+
+#[cfg(test)]
+mod grid_tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// The grid grows past its first points only while its best point is the last one tried
+    /// (each search then adds one evaluation at its parabola's vertex).
+    #[test]
+    fn an_extending_grid_grows_only_while_its_edge_is_best() {
+        let grid: Vec<f64> = (0..=8).map(f64::from).collect();
+        for (minimum, tried) in [(2.0, 5), (6.0, 9), (4.0, 9)] {
+            let calls = AtomicUsize::new(0);
+            let (x, _, _) = grid_min_extending(&grid, 5, |x| {
+                calls.fetch_add(1, Ordering::Relaxed);
+                ((x - minimum).powi(2), ())
+            });
+            assert_eq!(calls.into_inner(), tried + 1, "minimum {minimum}");
+            assert!((x - minimum).abs() < 1e-9, "minimum {minimum}: {x}");
+        }
+        // the whole grid at once: as grid_min
+        let (x, _, profile) = grid_min_extending(&grid, grid.len(), |x| ((x - 7.3).powi(2), ()));
+        assert_eq!(profile.len(), 10);
+        assert!((x - 7.3).abs() < 1e-9);
     }
 }

@@ -80,7 +80,11 @@ pub const EFFECTS: [EffectInfo; 8] = [
         meaning: "friction changes along the stroke (misalignment, local wear, a bent rod)",
         linear: &[Param::PositionGradient],
         // the number of cosine terms of its shape, chosen by the information criterion
-        nonlinear: Some(("terms", &[0.0, 1.0, 2.0, 3.0, 4.0], None)),
+        nonlinear: Some((
+            "terms",
+            &[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0],
+            None,
+        )),
         shape: None,
     },
     EffectInfo {
@@ -137,6 +141,17 @@ fn grid_objective(info: &EffectInfo, order: f64, rss: f64, n_eff: f64) -> f64 {
         rss * (order.round().max(0.0) * n_eff.ln() / n_eff).exp()
     } else {
         rss
+    }
+}
+
+/// How many points of an effect's nonlinear grid are tried first ([`fit::grid_min_extending`]):
+/// a position dependence's orders 0..4, and 5..8 only when 4 is the best of those (tried on
+/// every record, the higher orders cost an offset record 0.25 s of its 5 s budget).
+fn grid_first(info: &EffectInfo, grid: &[f64]) -> usize {
+    if info.kind == EffectKind::PositionDependence {
+        5
+    } else {
+        grid.len()
     }
 }
 
@@ -230,6 +245,16 @@ fn profile_interval(profile: &[(f64, f64)], n_eff: f64, best: f64) -> (f64, f64,
 fn on_edge(grid: &[f64], value: f64) -> bool {
     let near = |g: &f64| (value - g).abs() <= 1e-9 * g.abs().max(1e-300);
     grid.first().is_some_and(near) || grid.last().is_some_and(near)
+}
+
+/// [`on_edge`] for an effect's nonlinear parameter: a position dependence's order only at the
+/// top (no cosine terms is a model the data chose, the most terms a shape that may want more).
+fn effect_on_edge(info: &EffectInfo, grid: &[f64], value: f64) -> bool {
+    if info.kind == EffectKind::PositionDependence {
+        grid.last().is_some_and(|top| value >= *top)
+    } else {
+        on_edge(grid, value)
+    }
 }
 
 /// One candidate effect, scored.
@@ -746,30 +771,40 @@ pub fn polish(
                 best = f;
             }
         }
-        let info = effect.map(effect_info);
-        if let Some((info, (_, values, _))) = info.and_then(|i| Some((i, i.nonlinear?))) {
-            let base = best.model;
-            let (_, f, _) = fit::grid_min(values, |x| {
-                let f = fit::refit_quick(
-                    &fit::add_effect(&base, info.kind, p, x),
-                    p,
-                    fixed_mass,
-                    n_eff,
-                );
-                (grid_objective(info, x, f.rss, n_eff), f)
-            });
-            let mut f = fit::refit(&f.model, p, fixed_mass, n_eff);
-            let order = |f: &Fit| nonlinear_value(&f.model, info.kind).unwrap_or(0.0);
-            if grid_objective(info, order(&f), f.rss, n_eff)
-                < grid_objective(info, order(&best), best.rss, n_eff)
-            {
-                f.flags = best.flags.clone();
-                best = f;
-            }
+        if let Some(f) = effect.and_then(|e| regrid_effect(&best, e, p, fixed_mass, n_eff)) {
+            best = f;
         }
     }
     mark_unidentified_linear(&mut best, p, fixed_mass, n_eff);
     best
+}
+
+/// The fit with effect `e`'s own nonlinear parameter searched again on its grid (the other
+/// nonlinear parameters held), the linear ones refitted: `Some` only where that improves the
+/// grid's objective (and `e` has a nonlinear parameter). It keeps `current`'s flags.
+fn regrid_effect(
+    current: &Fit,
+    e: EffectKind,
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) -> Option<Fit> {
+    let info = effect_info(e);
+    let (_, values, _) = info.nonlinear?;
+    let base = current.model;
+    let (_, f, _) = fit::grid_min_extending(values, grid_first(info, values), |x| {
+        let f = fit::refit_quick(&fit::add_effect(&base, e, p, x), p, fixed_mass, n_eff);
+        (grid_objective(info, x, f.rss, n_eff), f)
+    });
+    let mut f = fit::refit(&f.model, p, fixed_mass, n_eff);
+    let objective = |f: &Fit| {
+        let order = nonlinear_value(&f.model, e).unwrap_or(0.0);
+        grid_objective(info, order, f.rss, n_eff)
+    };
+    (objective(&f) < objective(current)).then(|| {
+        f.flags = current.flags.clone();
+        f
+    })
 }
 
 /// How many leading candidates [`rank_candidates`] re-judges after their nonlinear parameters
@@ -1041,7 +1076,7 @@ fn score(
                 .map_or(vec![None], |(_, g)| g.iter().copied().map(Some).collect());
             let mut best: Option<fit::GridResult<Fit>> = None;
             for shape in shapes {
-                let (x, f, profile) = fit::grid_min(grid, |x| {
+                let (x, f, profile) = fit::grid_min_extending(grid, grid_first(info, grid), |x| {
                     let mut m = fit::add_effect(&current.fit.model, info.kind, p, x);
                     if let Some(v) = shape {
                         m = fit::with_shape(&m, info.kind, v);
@@ -1074,7 +1109,7 @@ fn score(
                 value: x,
                 ci_low: lo,
                 ci_high: hi,
-                at_search_edge: info.kind != EffectKind::PositionDependence && on_edge(grid, x),
+                at_search_edge: effect_on_edge(info, grid, x),
             });
             if let (Some((shape_name, shape_grid)), Some(v)) =
                 (info.shape, fit::shape_value(&f.model, info.kind))
@@ -1170,8 +1205,9 @@ fn judge(
     ) {
         // report the value the fit ended at (a polish may have moved it)
         q.value = v;
-        q.at_search_edge = info.kind != EffectKind::PositionDependence
-            && info.nonlinear.is_some_and(|(_, grid, _)| on_edge(grid, v));
+        q.at_search_edge = info
+            .nonlinear
+            .is_some_and(|(_, grid, _)| effect_on_edge(info, grid, v));
         q.ci_low = q.ci_low.min(v);
         q.ci_high = q.ci_high.max(v);
     }
