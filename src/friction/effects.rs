@@ -118,8 +118,9 @@ impl<T: Float> PositionDependence<T> {
         }
     }
 
-    /// The cosine basis at position `x`: `cos(j pi u)` for `j = 1..=POSITION_TERMS`
-    /// (Chebyshev recurrence: one cosine evaluation).
+    /// The cosine basis at position `x`: `cos(j pi u)` for `j = 1..=terms`, zero beyond
+    /// (Chebyshev recurrence: one cosine evaluation, and on the loop's path only the terms in
+    /// use).
     pub fn basis(&self, x: T) -> [T; POSITION_TERMS] {
         let two = T::one() + T::one();
         let half = T::one() / two;
@@ -130,7 +131,7 @@ impl<T: Float> PositionDependence<T> {
         let c1 = (T::from(core::f64::consts::PI).unwrap_or_else(T::one) * u).cos();
         let mut out = [T::zero(); POSITION_TERMS];
         let (mut prev, mut cur) = (T::one(), c1);
-        for o in out.iter_mut() {
+        for o in out.iter_mut().take(self.terms) {
             *o = cur;
             let next = two * c1 * cur - prev;
             prev = cur;

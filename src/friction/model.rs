@@ -545,6 +545,9 @@ mod tests {
         let c = [20.0, -10.0, 5.0, 7.0, -3.0, 2.0, 1.5, -4.0];
         pd.cosine = c;
         pd.terms = 7; // the eighth term is ignored
+                      // the basis carries the terms in use only
+        assert_eq!(pd.basis(0.13)[7], 0.0);
+        assert!((pd.basis(0.13)[6] - (7.0 * core::f64::consts::PI * 0.15).cos()).abs() < 1e-12);
         m.effects.position_dependence = Some(pd);
         let at = |x| {
             m.levels(0.01, &Conditions { position: x, ..REF }, 0.0)

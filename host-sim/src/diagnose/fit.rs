@@ -959,18 +959,10 @@ pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
             .min_by(|&a, &b| vals[a].0.total_cmp(&vals[b].0))
             .unwrap_or(0)
     };
-    let first = first.clamp(1, grid.len().max(1));
-    let mut vals: Vec<(f64, T)> = grid[..first.min(grid.len())]
-        .par_iter()
-        .map(|&x| f(x))
-        .collect();
+    let eval = |points: &[f64]| points.par_iter().map(|&x| f(x)).collect::<Vec<_>>();
+    let mut vals = eval(&grid[..first.max(1).min(grid.len())]);
     if vals.len() < grid.len() && argmin(&vals) + 1 == vals.len() {
-        vals.extend(
-            grid[vals.len()..]
-                .par_iter()
-                .map(|&x| f(x))
-                .collect::<Vec<_>>(),
-        );
+        vals.extend(eval(&grid[vals.len()..]));
     }
     let grid = &grid[..vals.len()];
     let mut profile: Vec<(f64, f64)> = grid.iter().zip(&vals).map(|(x, (c, _))| (*x, *c)).collect();

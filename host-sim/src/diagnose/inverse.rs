@@ -513,7 +513,8 @@ impl AxisModel {
                     // (a level that is not a positive number, from an effect's scaling far
                     // outside its range, bounds at zero: `clamp` must never see min > max)
                     let (up, down) = (fw.static_.max(0.0), bw.static_.max(0.0));
-                    let z = (held / sigma0).clamp(-down / sigma0, up / sigma0);
+                    // bounded in force, then one division (sigma0 > 0 keeps the order)
+                    let z = held.clamp(-down, up) / sigma0;
                     f += sigma0 * (z - st.z);
                     st.z = z;
                 }

@@ -48,6 +48,12 @@ pub struct EffectInfo {
     /// A second shape parameter, its name and grid: the nonlinear one is searched afresh at
     /// each of its values (see [`fit::with_shape`]).
     pub shape: Option<(&'static str, &'static [f64])>,
+    /// Where the nonlinear parameter is a model order (the cosine terms of
+    /// `position_dependence`): how many of its grid's orders are tried first, the rest only
+    /// when the last of those is the best ([`fit::grid_min_extending`]). An order is penalised
+    /// by the information criterion (`grid_objective`) and is at the edge of its search only
+    /// at the top (none is a model the data chose).
+    pub orders_first: Option<usize>,
 }
 
 /// The eight candidate effects.
@@ -58,6 +64,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         linear: &[Param::AsymCoulomb, Param::AsymStatic, Param::AsymViscous],
         nonlinear: None,
         shape: None,
+        orders_first: None,
     },
     EffectInfo {
         kind: EffectKind::Offset,
@@ -65,6 +72,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         linear: &[Param::Offset],
         nonlinear: None,
         shape: None,
+        orders_first: None,
     },
     EffectInfo {
         kind: EffectKind::LoadDependence,
@@ -74,6 +82,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         // progressively (> 1); the independent generator draws 0.7..1.5
         nonlinear: Some(("exponent", &[0.6, 0.8, 1.0, 1.25, 1.6, 2.2], Some(1.0))),
         shape: None,
+        orders_first: None,
     },
     EffectInfo {
         kind: EffectKind::PositionDependence,
@@ -86,6 +95,9 @@ pub const EFFECTS: [EffectInfo; 8] = [
             None,
         )),
         shape: None,
+        // 5..8 only when 4 is the best of 0..4: tried on every record, the higher orders cost
+        // an offset record 0.25 s of its 5 s budget
+        orders_first: Some(5),
     },
     EffectInfo {
         kind: EffectKind::TemperatureDependence,
@@ -97,6 +109,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
             Some(0.0),
         )),
         shape: None,
+        orders_first: None,
     },
     EffectInfo {
         kind: EffectKind::StribeckShape,
@@ -108,6 +121,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
             Some(2.0),
         )),
         shape: None,
+        orders_first: None,
     },
     EffectInfo {
         kind: EffectKind::ViscousPower,
@@ -122,6 +136,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
             Some(1.0),
         )),
         shape: None,
+        orders_first: None,
     },
     EffectInfo {
         kind: EffectKind::DwellStiction,
@@ -129,6 +144,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         linear: &[Param::DwellIncrease],
         nonlinear: Some(("time_constant_s", &[0.1, 0.2, 0.5, 1.0, 2.0, 5.0], None)),
         shape: Some(("renewal_distance_m", &fit::DWELL_RENEWAL_GRID_M)),
+        orders_first: None,
     },
 ];
 
@@ -137,7 +153,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
 /// penalised by the information criterion, `RSS N^(n / N)` (`N ln RSS + n ln N` in BIC form),
 /// so that each term must earn its place.
 fn grid_objective(info: &EffectInfo, order: f64, rss: f64, n_eff: f64) -> f64 {
-    if info.kind == EffectKind::PositionDependence {
+    if info.orders_first.is_some() {
         rss * (order.round().max(0.0) * n_eff.ln() / n_eff).exp()
     } else {
         rss
@@ -145,14 +161,9 @@ fn grid_objective(info: &EffectInfo, order: f64, rss: f64, n_eff: f64) -> f64 {
 }
 
 /// How many points of an effect's nonlinear grid are tried first ([`fit::grid_min_extending`]):
-/// a position dependence's orders 0..4, and 5..8 only when 4 is the best of those (tried on
-/// every record, the higher orders cost an offset record 0.25 s of its 5 s budget).
+/// all of them, or an order's first ([`EffectInfo::orders_first`]).
 fn grid_first(info: &EffectInfo, grid: &[f64]) -> usize {
-    if info.kind == EffectKind::PositionDependence {
-        5
-    } else {
-        grid.len()
-    }
+    info.orders_first.unwrap_or(grid.len())
 }
 
 /// The fitted linear parameters that belong to an effect: its own list, and the cosine terms of
@@ -247,10 +258,10 @@ fn on_edge(grid: &[f64], value: f64) -> bool {
     grid.first().is_some_and(near) || grid.last().is_some_and(near)
 }
 
-/// [`on_edge`] for an effect's nonlinear parameter: a position dependence's order only at the
-/// top (no cosine terms is a model the data chose, the most terms a shape that may want more).
+/// [`on_edge`] for an effect's nonlinear parameter: a model order only at the top (no term is
+/// a model the data chose, the most terms a shape that may want more).
 fn effect_on_edge(info: &EffectInfo, grid: &[f64], value: f64) -> bool {
-    if info.kind == EffectKind::PositionDependence {
+    if info.orders_first.is_some() {
         grid.last().is_some_and(|top| value >= *top)
     } else {
         on_edge(grid, value)
