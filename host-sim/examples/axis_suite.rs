@@ -66,6 +66,9 @@ struct Row {
     dwell_caution: Option<String>,
     /// the numbers the baseline's `dwell_stiction` decision weighs
     dwell: Option<diagnose::DwellEvidence>,
+    /// how often the baseline was replaced by a better start a candidate revealed
+    /// (`diagnose::Restart`: each costs a whole ranking)
+    restarts: usize,
 }
 
 fn main() {
@@ -234,6 +237,11 @@ fn main() {
         pct(false_pos, none.len())
     );
     println!(
+        "baselines replaced by a better start a candidate revealed: {} of {}",
+        rows.iter().filter(|r| r.restarts > 0).count(),
+        rows.len()
+    );
+    println!(
         "({} records, {:.0} s)",
         rows.len(),
         wall.elapsed().as_secs_f64()
@@ -348,6 +356,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         scored_fraction: f64::NAN,
         departures: 0,
         peak_trend_dbic: f64::NAN,
+        restarts: 0,
     };
     let name = format!("{hidden}-{seed}.csv");
     let rec = match Record::parse(&text, Path::new(&name)) {
@@ -414,6 +423,7 @@ fn run(effect: Option<&'static str>, seed: u64) -> Row {
         .iter()
         .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
         .and_then(|c| c.dwell);
+    row.restarts = d.stages[0].restarts.len();
     row.motion_spread_pct = d.motion_spread_pct;
     row.scored_fraction = p.scored_fraction();
     row.departures = d.breakaway.departures.len();

@@ -77,6 +77,36 @@ fn a_baseline_goes_where_its_candidates_show_it_can() {
     );
 }
 
+/// The stage says where its model was replaced by a better start (`diagnose::Restart`): on
+/// the independent temperature record 1001 the baseline's search from the static table stops
+/// at 3.56 %, and the temperature candidate's fit, its effect switched off again, is a plain
+/// model at 3.17 %. The stage keeps that model, ranks again from it (a second whole ranking:
+/// 6.5 s on this record against the 5 s target, session 27), and names the effect that is
+/// there.
+#[test]
+fn a_restart_from_a_better_start_is_reported() {
+    let (d, _) = diagnose(Some("temperature_dependence"), 1001, &[]);
+    let s = &d.stages[0];
+    println!("{:?}: {}", s.restarts, report(&d));
+    let first = s
+        .restarts
+        .first()
+        .expect("the premise: this baseline restarts");
+    assert!(
+        first.to_rel_err_pct <= (1.0 - diagnose::BETTER_START_CUT) * first.from_rel_err_pct,
+        "{first:?}"
+    );
+    let last = s.restarts.last().unwrap();
+    assert_eq!(s.fit.rel_err_pct, last.to_rel_err_pct, "{:?}", s.restarts);
+    let answer = s.candidates.iter().find(|c| c.significant);
+    assert_eq!(
+        answer.map(|c| c.kind.name()),
+        Some("temperature_dependence"),
+        "{}",
+        report(&d)
+    );
+}
+
 /// A strong direction dependence on an axis whose baseline has no viscous friction: the
 /// asymmetry's viscous-ratio regressor is all zero there, which once turned the normal
 /// equations into NaN and froze every asymmetry fit at its start. (Seed 1007: since the

@@ -79,6 +79,9 @@ pub struct JsonOut<'a> {
     /// Error after each stage over the moving samples counted alike [%], baseline first: the
     /// yardstick of `validation_rel_err_pct`.
     pub plain_history: Vec<(String, f64)>,
+    /// Where a stage's model was replaced by a better start a candidate revealed
+    /// (`diagnose::Restart`): (stage, candidate, error before [%], error after [%]).
+    pub restarts: Vec<(String, String, f64, f64)>,
     /// How much the first baseline's force moves with the position filter's bandwidth [%]
     /// (`Diagnosis::motion_spread_pct`).
     pub motion_spread_pct: f64,
@@ -167,6 +170,20 @@ pub fn run(a: &Args) -> Result<()> {
                 .stages
                 .iter()
                 .map(|s| (s.label.clone(), s.plain_rel_err_pct))
+                .collect(),
+            restarts: d
+                .stages
+                .iter()
+                .flat_map(|s| {
+                    s.restarts.iter().map(|r| {
+                        (
+                            s.label.clone(),
+                            r.revealed_by.to_string(),
+                            r.from_rel_err_pct,
+                            r.to_rel_err_pct,
+                        )
+                    })
+                })
                 .collect(),
             motion_spread_pct: d.motion_spread_pct,
             regimes: &last.regimes,
@@ -344,6 +361,12 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                 p.bristle_damping(),
                 p.stribeck_velocity() * 1e3,
                 p.bristle_stiffness()
+            );
+        }
+        for r in &s.restarts {
+            println!(
+                "   refitted from a better start that the {} candidate revealed: {:.2} % -> {:.2} %",
+                r.revealed_by, r.from_rel_err_pct, r.to_rel_err_pct
             );
         }
         for q in &s.fit.at_bound {

@@ -342,6 +342,22 @@ pub struct Stage {
     pub regimes: RegimeReport,
     /// What could be added next, best first.
     pub candidates: Vec<Candidate>,
+    /// Where the stage's model was replaced by a better fit of its own family that a candidate
+    /// revealed ([`BETTER_START_CUT`]), in order.
+    pub restarts: Vec<Restart>,
+}
+
+/// A stage's model replaced by a better start: a significant candidate's fit, its effect
+/// switched off again and refitted, beat the model by [`BETTER_START_CUT`] of its error or
+/// more, and the candidates were ranked again from there (each restart costs a whole ranking).
+#[derive(Clone, Copy, Debug)]
+pub struct Restart {
+    /// The candidate whose fit revealed it.
+    pub revealed_by: EffectKind,
+    /// The model's error before \[%\].
+    pub from_rel_err_pct: f64,
+    /// The better start's error \[%\].
+    pub to_rel_err_pct: f64,
 }
 
 /// Options of a diagnosis.
@@ -1618,8 +1634,9 @@ fn rank_from_best_start(
     brk: &Breakaway,
     fixed_mass: Option<f64>,
     n_eff: f64,
-) -> (Fit, Vec<Candidate>) {
+) -> (Fit, Vec<Candidate>, Vec<Restart>) {
     let mut candidates = rank_candidates(p, brk, &fit, fixed_mass, n_eff);
+    let mut restarts = Vec::new();
     for _ in 0..MAX_RESTARTS {
         let better = candidates
             .par_iter()
@@ -1627,19 +1644,24 @@ fn rank_from_best_start(
             .filter_map(|c| {
                 let mut m = c.fit.as_ref()?.model;
                 m.friction.effects = m.friction.effects.without(c.kind);
-                Some(fit::refit(&m, p, fixed_mass, n_eff))
+                Some((fit::refit(&m, p, fixed_mass, n_eff), c.kind))
             })
-            .filter(|f| f.rel_err_pct <= (1.0 - BETTER_START_CUT) * fit.rel_err_pct)
-            .min_by(|a, b| a.rss.total_cmp(&b.rss));
-        let Some(mut better) = better else {
+            .filter(|(f, _)| f.rel_err_pct <= (1.0 - BETTER_START_CUT) * fit.rel_err_pct)
+            .min_by(|a, b| a.0.rss.total_cmp(&b.0.rss));
+        let Some((mut better, revealed_by)) = better else {
             break;
         };
         better.flags = fit.flags.clone();
         mark_unidentified_linear(&mut better, p, fixed_mass, n_eff);
+        restarts.push(Restart {
+            revealed_by,
+            from_rel_err_pct: fit.rel_err_pct,
+            to_rel_err_pct: better.rel_err_pct,
+        });
         fit = better;
         candidates = rank_candidates(p, brk, &fit, fixed_mass, n_eff);
     }
-    (fit, candidates)
+    (fit, candidates, restarts)
 }
 
 /// [`stage_fit`]'s second start: the static table with the candidate's effects, refitted and
@@ -1666,10 +1688,10 @@ fn stage(
     n_eff: f64,
     rank: bool,
 ) -> Stage {
-    let (fit, candidates) = if rank {
+    let (fit, candidates, restarts) = if rank {
         rank_from_best_start(fit, p, brk, fixed_mass, n_eff)
     } else {
-        (fit, Vec::new())
+        (fit, Vec::new(), Vec::new())
     };
     let regimes = regimes::analyse(
         p,
@@ -1683,6 +1705,7 @@ fn stage(
         fit,
         regimes,
         candidates,
+        restarts,
     }
 }
 
