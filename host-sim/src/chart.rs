@@ -3,6 +3,7 @@
 
 use crate::error::{chart as err, Result};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// Measured signals.
 pub const MEASURED: RGBColor = RGBColor(40, 40, 40);
@@ -160,32 +161,44 @@ pub fn bars(
         );
         y0 = y0.min(0.0);
         let n = categories.len() as f64;
+        // the rotated category names hang down from the axis: room for the longest (about
+        // 5.5 px a character at the 11 px font as drawn), so that none runs off the chart or up
+        // into the bars
+        let longest = categories
+            .iter()
+            .map(|c| c.chars().count())
+            .max()
+            .unwrap_or(0);
+        let label_area = (longest as f64 * 5.5 + 16.0)
+            .max(90.0)
+            .min(0.5 * height as f64) as u32;
         let mut c = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 18))
             .margin(10)
-            .x_label_area_size(90)
+            .x_label_area_size(label_area)
             .y_label_area_size(65)
             .build_cartesian_2d(-0.5..(n - 0.5), y0..y1)
             .map_err(err)?;
         c.configure_mesh()
             .disable_x_mesh()
-            .x_labels(categories.len().max(1))
-            .x_label_formatter(&|x| {
-                let i = x.round();
-                if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < categories.len() {
-                    categories[i as usize].clone()
-                } else {
-                    String::new()
-                }
-            })
-            .x_label_style(
-                ("sans-serif", 11)
-                    .into_font()
-                    .transform(FontTransform::Rotate90),
-            )
+            .x_labels(0)
             .y_desc(y_desc)
             .draw()
             .map_err(err)?;
+        // the category names, turned to hang down from the axis below their bars: drawn here
+        // anchored at their start (the mesh centres a turned label on its tick, which sends
+        // a long one up into the bars)
+        let style = TextStyle::from(
+            ("sans-serif", 11)
+                .into_font()
+                .transform(FontTransform::Rotate90),
+        )
+        .pos(Pos::new(HPos::Left, VPos::Center));
+        for (i, name) in categories.iter().enumerate() {
+            let (px, py) = c.backend_coord(&(i as f64, y0));
+            root.draw(&Text::new(name.clone(), (px, py + 6), style.clone()))
+                .map_err(err)?;
+        }
         let w = 0.8 / series.len().max(1) as f64;
         for (j, s) in series.iter().enumerate() {
             let color = s.color;
@@ -371,6 +384,54 @@ mod tests {
         )
         .unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("measured") && svg.contains("time [s]"));
+    }
+
+    /// A bar chart's category names hang down from the axis, starting just below it, never
+    /// centred on it (a long one then ran up into the bars and its start was hidden), and the
+    /// chart keeps room for the longest.
+    #[test]
+    fn bar_names_start_below_the_axis() {
+        let long = "baseline (symmetric LuGre)".to_string();
+        let svg = bars(
+            360,
+            "t",
+            "error [%]",
+            &[long.clone(), "+ offset".into()],
+            &[Bars {
+                label: "error",
+                color: MEASURED,
+                values: vec![3.0, 1.0],
+            }],
+            None,
+        )
+        .unwrap();
+        let at = svg.find(&long).expect("the name is drawn");
+        let tag = &svg[svg[..at].rfind("<text").unwrap()..at];
+        assert!(tag.contains("text-anchor=\"start\""), "{tag}");
+        let number = |key: &str| -> f64 {
+            let i = tag.find(key).unwrap() + key.len();
+            tag[i..].split('"').next().unwrap().parse().unwrap()
+        };
+        // the axis is the plot's lowest horizontal line: every name starts below it, and the
+        // longest (about 5.5 px a character) ends inside the chart
+        let y = number(" y=\"");
+        let axis = svg
+            .match_indices("points=\"")
+            .filter_map(|(i, k)| {
+                let pts: Vec<f64> = svg[i + k.len()..]
+                    .split('"')
+                    .next()?
+                    .split([' ', ','])
+                    .filter_map(|v| v.parse().ok())
+                    .collect();
+                (pts.len() == 4 && pts[1] == pts[3] && pts[2] - pts[0] > 500.0).then_some(pts[1])
+            })
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(y > axis && y < axis + 20.0, "name at {y}, axis at {axis}");
+        assert!(
+            y + 5.5 * long.len() as f64 <= 360.0,
+            "name at {y} runs off the chart"
+        );
     }
 
     #[test]
