@@ -138,6 +138,10 @@ pub fn scatter_panels(height: u32, panels: &[Panel]) -> Result<String> {
     Ok(svg)
 }
 
+/// Width of a character of a bar chart's category names as drawn (the 11 px font scaled into
+/// the SVG) \[px\], generous.
+const BAR_NAME_PX_PER_CHAR: f64 = 5.5;
+
 /// Grouped bars over named categories, with an optional horizontal reference line (a noise
 /// floor), `height` px high.
 pub fn bars(
@@ -161,15 +165,14 @@ pub fn bars(
         );
         y0 = y0.min(0.0);
         let n = categories.len() as f64;
-        // the rotated category names hang down from the axis: room for the longest (about
-        // 5.5 px a character at the 11 px font as drawn), so that none runs off the chart or up
-        // into the bars
+        // the rotated category names hang down from the axis: room for the longest, so that
+        // none runs off the chart or up into the bars
         let longest = categories
             .iter()
             .map(|c| c.chars().count())
             .max()
             .unwrap_or(0);
-        let label_area = (longest as f64 * 5.5 + 16.0)
+        let label_area = (longest as f64 * BAR_NAME_PX_PER_CHAR + 16.0)
             .max(90.0)
             .min(0.5 * height as f64) as u32;
         let mut c = ChartBuilder::on(&root)
@@ -413,7 +416,7 @@ mod tests {
             tag[i..].split('"').next().unwrap().parse().unwrap()
         };
         // the axis is the plot's lowest horizontal line: every name starts below it, and the
-        // longest (about 5.5 px a character) ends inside the chart
+        // longest ends inside the chart
         let y = number(" y=\"");
         let axis = svg
             .match_indices("points=\"")
@@ -429,7 +432,7 @@ mod tests {
             .fold(f64::NEG_INFINITY, f64::max);
         assert!(y > axis && y < axis + 20.0, "name at {y}, axis at {axis}");
         assert!(
-            y + 5.5 * long.len() as f64 <= 360.0,
+            y + BAR_NAME_PX_PER_CHAR * long.len() as f64 <= 360.0,
             "name at {y} runs off the chart"
         );
     }

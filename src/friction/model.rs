@@ -544,8 +544,8 @@ mod tests {
         pd.half_span = 0.1;
         let c = [20.0, -10.0, 5.0, 7.0, -3.0, 2.0, 1.5, -4.0];
         pd.cosine = c;
-        pd.terms = 7; // the eighth term is ignored
-                      // the basis carries the terms in use only
+        // the eighth term is ignored: the basis carries the terms in use only
+        pd.terms = 7;
         assert_eq!(pd.basis(0.13)[7], 0.0);
         assert!((pd.basis(0.13)[6] - (7.0 * core::f64::consts::PI * 0.15).cos()).abs() < 1e-12);
         m.effects.position_dependence = Some(pd);

@@ -79,9 +79,9 @@ pub struct JsonOut<'a> {
     /// Error after each stage over the moving samples counted alike [%], baseline first: the
     /// yardstick of `validation_rel_err_pct`.
     pub plain_history: Vec<(String, f64)>,
-    /// Where a stage's model was replaced by a better start a candidate revealed
-    /// (`diagnose::Restart`): (stage, candidate, error before [%], error after [%]).
-    pub restarts: Vec<(String, String, f64, f64)>,
+    /// Where a stage's model was replaced by a better start a candidate revealed: (stage,
+    /// `diagnose::Restart`).
+    pub restarts: Vec<(&'a str, &'a diagnose::Restart)>,
     /// How much the first baseline's force moves with the position filter's bandwidth [%]
     /// (`Diagnosis::motion_spread_pct`).
     pub motion_spread_pct: f64,
@@ -174,16 +174,7 @@ pub fn run(a: &Args) -> Result<()> {
             restarts: d
                 .stages
                 .iter()
-                .flat_map(|s| {
-                    s.restarts.iter().map(|r| {
-                        (
-                            s.label.clone(),
-                            r.revealed_by.to_string(),
-                            r.from_rel_err_pct,
-                            r.to_rel_err_pct,
-                        )
-                    })
-                })
+                .flat_map(|s| s.restarts.iter().map(|r| (s.label.as_str(), r)))
                 .collect(),
             motion_spread_pct: d.motion_spread_pct,
             regimes: &last.regimes,
@@ -364,10 +355,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
             );
         }
         for r in &s.restarts {
-            println!(
-                "   refitted from a better start that the {} candidate revealed: {:.2} % -> {:.2} %",
-                r.revealed_by, r.from_rel_err_pct, r.to_rel_err_pct
-            );
+            println!("   {r}");
         }
         for q in &s.fit.at_bound {
             println!(

@@ -60,6 +60,19 @@ pub enum Param {
     DwellIncrease,
 }
 
+/// The cosine terms' labels, one per term the core carries (its length is the core's
+/// `POSITION_TERMS`: a change there must name its terms here).
+const COSINE_LABELS: [&str; fx::POSITION_TERMS] = [
+    "cosine_1_n",
+    "cosine_2_n",
+    "cosine_3_n",
+    "cosine_4_n",
+    "cosine_5_n",
+    "cosine_6_n",
+    "cosine_7_n",
+    "cosine_8_n",
+];
+
 impl Param {
     /// Name and unit for reports.
     pub fn label(self) -> &'static str {
@@ -75,19 +88,7 @@ impl Param {
             Param::Offset => "force_n",
             Param::LoadCoefficient => "coefficient_n_per_pa",
             Param::PositionGradient => "gradient_n_per_m",
-            Param::PositionCosine(j) => [
-                "cosine_1_n",
-                "cosine_2_n",
-                "cosine_3_n",
-                "cosine_4_n",
-                "cosine_5_n",
-                "cosine_6_n",
-                "cosine_7_n",
-                "cosine_8_n",
-            ]
-            .get(j)
-            .copied()
-            .unwrap_or("cosine_n"),
+            Param::PositionCosine(j) => COSINE_LABELS.get(j).copied().unwrap_or("cosine_n"),
             Param::TempCoulomb => "coulomb_per_kelvin",
             Param::DwellIncrease => "max_increase_n",
         }

@@ -160,10 +160,15 @@ fn grid_objective(info: &EffectInfo, order: f64, rss: f64, n_eff: f64) -> f64 {
     }
 }
 
-/// How many points of an effect's nonlinear grid are tried first ([`fit::grid_min_extending`]):
-/// all of them, or an order's first ([`EffectInfo::orders_first`]).
-fn grid_first(info: &EffectInfo, grid: &[f64]) -> usize {
-    info.orders_first.unwrap_or(grid.len())
+/// An effect's nonlinear grid searched ([`fit::grid_min_extending`]): all of it, or a model
+/// order's first points and the rest only while the last is the best
+/// ([`EffectInfo::orders_first`]).
+fn effect_grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
+    info: &EffectInfo,
+    grid: &[f64],
+    f: F,
+) -> fit::GridResult<T> {
+    fit::grid_min_extending(grid, info.orders_first.unwrap_or(grid.len()), f)
 }
 
 /// The fitted linear parameters that belong to an effect: its own list, and the cosine terms of
@@ -350,14 +355,26 @@ pub struct Stage {
 /// A stage's model replaced by a better start: a significant candidate's fit, its effect
 /// switched off again and refitted, beat the model by [`BETTER_START_CUT`] of its error or
 /// more, and the candidates were ranked again from there (each restart costs a whole ranking).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Serialize)]
 pub struct Restart {
-    /// The candidate whose fit revealed it.
+    /// The candidate whose fit revealed it (serialised by its name).
+    #[serde(serialize_with = "effect_name")]
     pub revealed_by: EffectKind,
     /// The model's error before \[%\].
     pub from_rel_err_pct: f64,
     /// The better start's error \[%\].
     pub to_rel_err_pct: f64,
+}
+
+impl core::fmt::Display for Restart {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "refitted from a better start that the {} candidate's fit revealed (its effect \
+             switched off again): {:.2} % -> {:.2} %",
+            self.revealed_by, self.from_rel_err_pct, self.to_rel_err_pct
+        )
+    }
 }
 
 /// Options of a diagnosis.
@@ -819,7 +836,7 @@ fn regrid_effect(
     let info = effect_info(e);
     let (_, values, _) = info.nonlinear?;
     let base = current.model;
-    let (_, f, _) = fit::grid_min_extending(values, grid_first(info, values), |x| {
+    let (_, f, _) = effect_grid_min(info, values, |x| {
         let f = fit::refit_quick(&fit::add_effect(&base, e, p, x), p, fixed_mass, n_eff);
         (grid_objective(info, x, f.rss, n_eff), f)
     });
@@ -1103,7 +1120,7 @@ fn score(
                 .map_or(vec![None], |(_, g)| g.iter().copied().map(Some).collect());
             let mut best: Option<fit::GridResult<Fit>> = None;
             for shape in shapes {
-                let (x, f, profile) = fit::grid_min_extending(grid, grid_first(info, grid), |x| {
+                let (x, f, profile) = effect_grid_min(info, grid, |x| {
                     let mut m = fit::add_effect(&current.fit.model, info.kind, p, x);
                     if let Some(v) = shape {
                         m = fit::with_shape(&m, info.kind, v);

@@ -504,11 +504,9 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     for s in &d.stages {
         for r in &s.restarts {
             out += &format!(
-                "<p>{}: refitted from a better start that the <b>{}</b> candidate's fit revealed (its effect switched off again): {:.2} % &rarr; {:.2} %; the candidates were ranked again from there.</p>",
+                "<p>{}: {}; the candidates were ranked again from there.</p>",
                 escape(&s.label),
-                escape(r.revealed_by.name()),
-                r.from_rel_err_pct,
-                r.to_rel_err_pct
+                escape(&r.to_string())
             );
         }
     }
