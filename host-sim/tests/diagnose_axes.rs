@@ -105,6 +105,25 @@ fn a_restart_from_a_better_start_is_reported() {
         "{}",
         report(&d)
     );
+    // after the restart nothing is searched again: the candidates not significant before keep
+    // their fits, say so, and are judged against the new model (their cut is of its error)
+    let kept: Vec<_> = s
+        .candidates
+        .iter()
+        .filter(|c| c.fitted_before_restart)
+        .collect();
+    assert!(!kept.is_empty(), "{}", report(&d));
+    assert!(!answer.unwrap().fitted_before_restart);
+    for c in kept {
+        let err = c.rel_err_pct.expect("a tested candidate");
+        let cut = 1.0 - err / s.fit.rel_err_pct;
+        assert!(
+            c.kind.name() == "dwell_stiction" || (c.error_cut - cut).abs() < 1e-12,
+            "{}: cut {} against the new model's {cut}",
+            c.kind,
+            c.error_cut
+        );
+    }
 }
 
 /// A strong direction dependence on an axis whose baseline has no viscous friction: the

@@ -401,6 +401,24 @@ impl<T: Float> Effects<T> {
         }
     }
 
+    /// The same effects with the one of this kind as it is in `other` (switched off where
+    /// `other` has it off).
+    pub fn with_kind_of(mut self, kind: EffectKind, other: &Self) -> Self {
+        match kind {
+            EffectKind::Asymmetry => self.asymmetry = other.asymmetry,
+            EffectKind::Offset => self.offset = other.offset,
+            EffectKind::LoadDependence => self.load_dependence = other.load_dependence,
+            EffectKind::PositionDependence => self.position_dependence = other.position_dependence,
+            EffectKind::TemperatureDependence => {
+                self.temperature_dependence = other.temperature_dependence
+            }
+            EffectKind::StribeckShape => self.stribeck_shape = other.stribeck_shape,
+            EffectKind::ViscousPower => self.viscous_power = other.viscous_power,
+            EffectKind::DwellStiction => self.dwell_stiction = other.dwell_stiction,
+        }
+        self
+    }
+
     /// The same effects with the one of this kind switched off.
     pub fn without(mut self, kind: EffectKind) -> Self {
         match kind {

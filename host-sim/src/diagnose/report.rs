@@ -566,7 +566,12 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                         Some(why) => format!("not significant: {why}"),
                         None => "not significant".into(),
                     },
-                },
+                } + if c.fitted_before_restart {
+                    format!(" ({})", super::FITTED_BEFORE_RESTART)
+                } else {
+                    String::new()
+                }
+                .as_str(),
                 c.parameters
                     .iter()
                     .map(|q| {
