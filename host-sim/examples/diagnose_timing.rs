@@ -1,0 +1,116 @@
+//! The diagnosis's time on 60 s records at 1 kHz, all candidates ranked (issue 9's target:
+//! at most 5 s, release, 2 cores): records of the independent axis generator
+//! (`tests/generators/axis.rs`), one effect-free and one per effect for each seed, diagnosed one
+//! after another as `host-sim diagnose --data F` does (the CSV parsed, default options), each
+//! with the whole thread pool.
+//!
+//! `cargo run --release -p host-sim --example diagnose_timing -- [SEED ...] [--json F]`
+//! (default seeds 1000..1004: 45 records, the ones `axis_suite 0 0 --write DIR --seed N` writes).
+//! Prints each record's wall time, then the median, the maximum and how many took over 5 s;
+//! `--json F` writes the same. Generating a record is not timed. The machine is noisy: compare
+//! two builds by running them one after another on the same records, not against a number.
+
+#[path = "../tests/generators/mod.rs"]
+mod generators;
+
+use generators::axis::{random_record, EFFECTS};
+use host_sim::diagnose::{self, Options};
+use host_sim::record::Record;
+use std::path::Path;
+use std::time::Instant;
+
+/// The issue's target for one record \[s\].
+const TARGET_S: f64 = 5.0;
+
+#[derive(serde::Serialize)]
+struct Row {
+    effect: String,
+    seed: u64,
+    /// parse and diagnose, wall clock \[s\]
+    seconds: f64,
+    /// times the baseline was replaced by a better start (`diagnose::Restart`)
+    restarts: usize,
+    /// the first significant candidate, if any
+    first_significant: Option<String>,
+}
+
+#[derive(serde::Serialize)]
+struct Summary {
+    records: usize,
+    median_s: f64,
+    max_s: f64,
+    over_target: usize,
+    target_s: f64,
+    threads: usize,
+    rows: Vec<Row>,
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let json = args
+        .iter()
+        .position(|a| a == "--json")
+        .and_then(|i| args.get(i + 1).cloned());
+    let mut seeds: Vec<u64> = args
+        .iter()
+        .enumerate()
+        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--json"))
+        .map(|(_, a)| a.parse().expect("a seed is a whole number"))
+        .collect();
+    if seeds.is_empty() {
+        seeds = (1000..=1004).collect();
+    }
+    println!(
+        "{:<24} {:>5} {:>8} {:>8}  first significant",
+        "record", "seed", "seconds", "restarts"
+    );
+    let mut rows = Vec::new();
+    for &seed in &seeds {
+        for effect in std::iter::once(None).chain(EFFECTS.map(Some)) {
+            let name = effect.unwrap_or("none");
+            let (text, _) = random_record(effect, seed);
+            let path = format!("{name}-{seed}.csv");
+            let start = Instant::now();
+            let rec = Record::parse(&text, Path::new(&path)).expect("a generated record parses");
+            let d = diagnose::diagnose(&rec, &path, &Options::default()).expect("diagnosis");
+            let seconds = start.elapsed().as_secs_f64();
+            let first_significant = d.stages[0]
+                .candidates
+                .iter()
+                .find(|c| c.significant)
+                .map(|c| c.kind.name().to_string());
+            let restarts = d.stages[0].restarts.len();
+            println!(
+                "{name:<24} {seed:>5} {seconds:>8.2} {restarts:>8}  {}",
+                first_significant.as_deref().unwrap_or("-")
+            );
+            rows.push(Row {
+                effect: name.into(),
+                seed,
+                seconds,
+                restarts,
+                first_significant,
+            });
+        }
+    }
+    let mut times: Vec<f64> = rows.iter().map(|r| r.seconds).collect();
+    times.sort_by(f64::total_cmp);
+    let summary = Summary {
+        records: rows.len(),
+        median_s: host_sim::stats::median(&times),
+        max_s: times.last().copied().unwrap_or(f64::NAN),
+        over_target: times.iter().filter(|t| **t > TARGET_S).count(),
+        target_s: TARGET_S,
+        threads: rayon::current_num_threads(),
+        rows,
+    };
+    println!(
+        "\n{} records, {} threads: median {:.2} s, max {:.2} s, {} over {TARGET_S} s",
+        summary.records, summary.threads, summary.median_s, summary.max_s, summary.over_target
+    );
+    if let Some(path) = json {
+        std::fs::write(&path, serde_json::to_string_pretty(&summary).expect("json"))
+            .expect("write json");
+        println!("wrote {path}");
+    }
+}
