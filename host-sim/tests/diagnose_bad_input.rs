@@ -165,3 +165,28 @@ fn the_report_is_self_contained_and_lists_the_whole_model() {
         assert!(html.contains(entry), "{entry}");
     }
 }
+
+/// With one model (nothing added) the report lists where it fails once, not once as the
+/// "first" and again as the "final" model.
+#[test]
+fn a_single_model_lists_where_it_fails_once() {
+    let mut cfg = host_sim::plant::PlantConfig::default();
+    host_sim::scenarios::with_effect(&mut cfg, "asymmetry", 1.0).unwrap();
+    let rec =
+        host_sim::scenarios::diagnosis_run(&cfg, host_sim::plant::SensorConfig::realistic(3), 12.0);
+    let d = diagnose::diagnose(&rec, "r.csv", &Options::default()).unwrap();
+    assert_eq!(d.stages.len(), 1);
+    let findings = &d.stages[0].regimes.findings;
+    assert!(
+        !findings.is_empty(),
+        "the premise: the baseline fails somewhere"
+    );
+    let html = diagnose::report::html(&d, "r.csv", None);
+    assert!(!html.contains("<li>first model:") && !html.contains("<li>final model:"));
+    let listed = html
+        .split("<h2>Where the model fails</h2><ul>")
+        .nth(1)
+        .and_then(|s| s.split("</ul>").next())
+        .expect("the list");
+    assert_eq!(listed.matches("<li>").count(), findings.len(), "{listed}");
+}

@@ -491,6 +491,18 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                 escape(c.kind.name())
             );
         }
+    } else if let Some((c, why)) = first
+        .candidates
+        .first()
+        .and_then(|c| Some((c, c.near_cut()?)))
+    {
+        if d.stages.len() == 1 {
+            out += &format!(
+                "<p>No effect is significant. The leading candidate, <b>{}</b>, is {}.</p>",
+                escape(c.kind.name()),
+                escape(&why),
+            );
+        }
     }
     out += "<p>Error = 100 ||F - F_hat|| / ||F|| on the force filtered at 20 Hz, over the samples where the axis moves \
             (while stuck, friction balances whatever force is applied and cannot be predicted from the motion).</p>";
@@ -517,11 +529,18 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         out += &format!("<p>On the validation record (no refit): {v:.2} %.</p>");
     }
     out += "<h2>Where the model fails</h2><ul>";
-    for f in &first.regimes.findings {
-        out += &format!("<li>first model: {}</li>", escape(f));
-    }
-    for f in &last.regimes.findings {
-        out += &format!("<li>final model: {}</li>", escape(f));
+    if d.stages.len() == 1 {
+        // one model: first and final are the same, listed once
+        for f in &last.regimes.findings {
+            out += &format!("<li>{}</li>", escape(f));
+        }
+    } else {
+        for f in &first.regimes.findings {
+            out += &format!("<li>first model: {}</li>", escape(f));
+        }
+        for f in &last.regimes.findings {
+            out += &format!("<li>final model: {}</li>", escape(f));
+        }
     }
     out += "</ul>";
     out += &chart::bars(
