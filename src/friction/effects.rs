@@ -478,4 +478,50 @@ mod tests {
         assert!(e.kinds().eq(on));
         assert!(EffectKind::ALL.iter().all(|k| e.has(*k) == on.contains(k)));
     }
+
+    /// `with_kind_of` takes exactly one kind from the other set, on or off, for every kind.
+    #[test]
+    fn with_kind_of_takes_one_kind_only() {
+        let mut all = Effects::<f64>::none();
+        all.asymmetry = Some(Asymmetry {
+            coulomb_ratio: 0.1,
+            static_ratio: 0.2,
+            viscous_ratio: 0.3,
+        });
+        all.offset = Some(Offset { force: 1.0 });
+        all.load_dependence = Some(LoadDependence {
+            coefficient: 1e-6,
+            reference_pressure_sum: 1e7,
+            exponent: 1.0,
+        });
+        all.position_dependence = Some(PositionDependence::linear(2.0, 0.0));
+        all.temperature_dependence = Some(TemperatureDependence {
+            viscous_per_kelvin: 0.01,
+            coulomb_per_kelvin: 0.001,
+            reference_temperature: 40.0,
+        });
+        all.stribeck_shape = Some(StribeckShape { exponent: 1.5 });
+        all.viscous_power = Some(ViscousPower {
+            exponent: 0.7,
+            reference_velocity: 0.01,
+        });
+        all.dwell_stiction = Some(DwellStiction {
+            max_increase: 1.0,
+            time_constant: 1.0,
+            stick_velocity: 1e-4,
+            renewal_distance: 1e-4,
+        });
+        assert_eq!(all.kinds().count(), EffectKind::ALL.len(), "the premise");
+        let none = Effects::<f64>::none();
+        for k in EffectKind::ALL {
+            let on = none.with_kind_of(k, &all);
+            assert!(on.kinds().eq([k]), "{k:?}");
+            assert_eq!(
+                on,
+                none.with_kind_of(k, &all).without(k).with_kind_of(k, &all)
+            );
+            let off = all.with_kind_of(k, &none);
+            assert_eq!(off, all.without(k), "{k:?}");
+        }
+    }
 }

@@ -433,7 +433,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                 );
             }
             if !s.candidates.iter().any(|c| c.significant) {
-                match s.candidates.first().and_then(|c| Some((c, c.near_cut()?))) {
+                match s.near_miss() {
                     Some((c, why)) => println!(
                         "   no candidate effect is significant; the leading one, {}, is {why}",
                         c.kind

@@ -331,6 +331,18 @@ pub struct Candidate {
     pub fitted_before_restart: bool,
 }
 
+impl Stage {
+    /// Where none of the stage's candidates is significant and the leading one comes near
+    /// ([`Candidate::near_cut`]): that candidate and the sentence saying so.
+    pub fn near_miss(&self) -> Option<(&Candidate, String)> {
+        if self.candidates.iter().any(|c| c.significant) {
+            return None;
+        }
+        let c = self.candidates.first()?;
+        Some((c, c.near_cut()?))
+    }
+}
+
 impl Candidate {
     /// For the leading candidate of a stage where none is significant: where its evidence is
     /// strong ([`Candidate::detected`]) and its error cut at least [`NEAR_CUT`] but below
@@ -1036,16 +1048,8 @@ fn prefer_nested(
             continue;
         }
         let with_nested = stage_fit(nested, simpler, p, fixed_mass, n_eff);
-        let on_top = rank_among(
-            p,
-            brk,
-            &with_nested,
-            fixed_mass,
-            n_eff,
-            Some(larger),
-            Vec::new(),
-        );
-        if let Some(c) = on_top.first().filter(|c| !c.significant) {
+        let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
+        if let Some(c) = on_top.filter(|c| !c.significant) {
             let why = format!(
                 "it contains {nested} as a special case, and with {nested} added ({:.2} %) it cuts the error by {:.0} % only{}: the simpler {nested} explains the record",
                 with_nested.rel_err_pct,
@@ -1091,16 +1095,8 @@ fn larger_on_top(
     // record, a third of the diagnosis's budget, and the candidate's start alone (one round or
     // two) read calibration offset records as asymmetry (5 of 30, 1 of 30)
     let with_nested = from_static_table(nested, simpler, p, fixed_mass, n_eff);
-    let on_top = rank_among(
-        p,
-        brk,
-        &with_nested,
-        fixed_mass,
-        n_eff,
-        Some(larger),
-        Vec::new(),
-    );
-    if let Some(c) = on_top.first().filter(|c| c.significant) {
+    let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
+    if let Some(c) = on_top.filter(|c| c.significant) {
         let s = &mut out[first];
         s.caution = Some(format!(
             "{larger}, which contains it as a special case, cuts the error by a further {:.0} % with {nested} added ({:.2} %): the larger {larger} explains the record",
@@ -1110,6 +1106,21 @@ fn larger_on_top(
         s.significant = false;
         s.detected = false;
     }
+}
+
+/// Effect `e` alone scored, polished and judged against `current` as [`rank_among`] does
+/// (`None` where `current` has it already).
+fn rank_one(
+    e: EffectKind,
+    p: &Prepared,
+    brk: &Breakaway,
+    current: &Fit,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) -> Option<Candidate> {
+    rank_among(p, brk, current, fixed_mass, n_eff, Some(e), Vec::new())
+        .into_iter()
+        .next()
 }
 
 /// [`rank_candidates`] without the parsimony between nested effects, of every effect not yet

@@ -262,6 +262,22 @@ fn num(v: f64) -> String {
     }
 }
 
+/// A candidate's verdict in the table of the next candidates.
+fn verdict(c: &super::Candidate) -> String {
+    let mut v = match &c.skipped {
+        Some(w) => format!("skipped: {w}"),
+        None if c.significant => "SIGNIFICANT".into(),
+        None => match &c.caution {
+            Some(why) => format!("not significant: {why}"),
+            None => "not significant".into(),
+        },
+    };
+    if c.fitted_before_restart {
+        v += &format!(" ({})", super::FITTED_BEFORE_RESTART);
+    }
+    v
+}
+
 /// The final model's rows: every parameter-file entry with its interval and status.
 fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
     let m = &fit.model;
@@ -491,11 +507,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                 escape(c.kind.name())
             );
         }
-    } else if let Some((c, why)) = first
-        .candidates
-        .first()
-        .and_then(|c| Some((c, c.near_cut()?)))
-    {
+    } else if let Some((c, why)) = first.near_miss() {
         if d.stages.len() == 1 {
             out += &format!(
                 "<p>No effect is significant. The leading candidate, <b>{}</b>, is {}.</p>",
@@ -578,19 +590,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                 c.meaning.clone(),
                 c.rel_err_pct.map_or("-".into(), |e| format!("{e:.2} %")),
                 c.delta_bic.map_or("-".into(), |b| format!("{b:.1}")),
-                match &c.skipped {
-                    Some(w) => format!("skipped: {w}"),
-                    None if c.significant => "SIGNIFICANT".into(),
-                    None => match &c.caution {
-                        Some(why) => format!("not significant: {why}"),
-                        None => "not significant".into(),
-                    },
-                } + if c.fitted_before_restart {
-                    format!(" ({})", super::FITTED_BEFORE_RESTART)
-                } else {
-                    String::new()
-                }
-                .as_str(),
+                verdict(c),
                 c.parameters
                     .iter()
                     .map(|q| {
