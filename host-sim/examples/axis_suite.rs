@@ -67,7 +67,7 @@ struct Row {
     /// the numbers the baseline's `dwell_stiction` decision weighs
     dwell: Option<diagnose::DwellEvidence>,
     /// how often the baseline was replaced by a better start a candidate revealed
-    /// (`diagnose::Restart`: each costs a whole ranking)
+    /// (`diagnose::Restart`)
     restarts: usize,
 }
 

@@ -80,9 +80,9 @@ fn a_baseline_goes_where_its_candidates_show_it_can() {
 /// The stage says where its model was replaced by a better start (`diagnose::Restart`): on
 /// the independent temperature record 1001 the baseline's search from the static table stops
 /// at 3.56 %, and the temperature candidate's fit, its effect switched off again, is a plain
-/// model at 3.17 %. The stage keeps that model, ranks again from it (a second whole ranking:
-/// 6.5 s on this record against the 5 s target, session 27), and names the effect that is
-/// there.
+/// model at 3.17 %. The stage keeps that model, judges the candidates again against it without
+/// a second search (a second whole ranking took this record to 6.5 s against the 5 s target,
+/// session 27; 4.1 s since session 28), and names the effect that is there.
 #[test]
 fn a_restart_from_a_better_start_is_reported() {
     let (d, _) = diagnose(Some("temperature_dependence"), 1001, &[]);

@@ -132,10 +132,7 @@ fn cli_reports_errors_without_panicking() {
 /// fetched from a network; the final model table names each added effect's parameters.
 #[test]
 fn the_report_is_self_contained_and_lists_the_whole_model() {
-    let mut cfg = host_sim::plant::PlantConfig::default();
-    host_sim::scenarios::with_effect(&mut cfg, "asymmetry", 1.0).unwrap();
-    let rec =
-        host_sim::scenarios::diagnosis_run(&cfg, host_sim::plant::SensorConfig::realistic(3), 12.0);
+    let rec = asymmetric_record();
     let opts = Options {
         add: vec!["asymmetry".into()],
         ..Default::default()
@@ -170,10 +167,7 @@ fn the_report_is_self_contained_and_lists_the_whole_model() {
 /// "first" and again as the "final" model.
 #[test]
 fn a_single_model_lists_where_it_fails_once() {
-    let mut cfg = host_sim::plant::PlantConfig::default();
-    host_sim::scenarios::with_effect(&mut cfg, "asymmetry", 1.0).unwrap();
-    let rec =
-        host_sim::scenarios::diagnosis_run(&cfg, host_sim::plant::SensorConfig::realistic(3), 12.0);
+    let rec = asymmetric_record();
     let d = diagnose::diagnose(&rec, "r.csv", &Options::default()).unwrap();
     assert_eq!(d.stages.len(), 1);
     let findings = &d.stages[0].regimes.findings;
@@ -189,4 +183,11 @@ fn a_single_model_lists_where_it_fails_once() {
         .and_then(|s| s.split("</ul>").next())
         .expect("the list");
     assert_eq!(listed.matches("<li>").count(), findings.len(), "{listed}");
+}
+
+/// 12 s of the plant with an asymmetric friction, realistic sensors.
+fn asymmetric_record() -> host_sim::record::Record {
+    let mut cfg = host_sim::plant::PlantConfig::default();
+    host_sim::scenarios::with_effect(&mut cfg, "asymmetry", 1.0).unwrap();
+    host_sim::scenarios::diagnosis_run(&cfg, host_sim::plant::SensorConfig::realistic(3), 12.0)
 }

@@ -420,18 +420,8 @@ impl<T: Float> Effects<T> {
     }
 
     /// The same effects with the one of this kind switched off.
-    pub fn without(mut self, kind: EffectKind) -> Self {
-        match kind {
-            EffectKind::Asymmetry => self.asymmetry = None,
-            EffectKind::Offset => self.offset = None,
-            EffectKind::LoadDependence => self.load_dependence = None,
-            EffectKind::PositionDependence => self.position_dependence = None,
-            EffectKind::TemperatureDependence => self.temperature_dependence = None,
-            EffectKind::StribeckShape => self.stribeck_shape = None,
-            EffectKind::ViscousPower => self.viscous_power = None,
-            EffectKind::DwellStiction => self.dwell_stiction = None,
-        }
-        self
+    pub fn without(self, kind: EffectKind) -> Self {
+        self.with_kind_of(kind, &Self::none())
     }
 
     /// The kinds switched on, in [`EffectKind::ALL`] order.
@@ -468,12 +458,7 @@ mod tests {
         let mut e = Effects::<f64>::none();
         assert_eq!(e.kinds().count(), 0);
         e.offset = Some(Offset { force: 1.0 });
-        e.dwell_stiction = Some(DwellStiction {
-            max_increase: 1.0,
-            time_constant: 1.0,
-            stick_velocity: 1e-4,
-            renewal_distance: 1e-4,
-        });
+        e.dwell_stiction = Some(dwell());
         let on: [EffectKind; 2] = [EffectKind::Offset, EffectKind::DwellStiction];
         assert!(e.kinds().eq(on));
         assert!(EffectKind::ALL.iter().all(|k| e.has(*k) == on.contains(k)));
@@ -505,23 +490,29 @@ mod tests {
             exponent: 0.7,
             reference_velocity: 0.01,
         });
-        all.dwell_stiction = Some(DwellStiction {
-            max_increase: 1.0,
-            time_constant: 1.0,
-            stick_velocity: 1e-4,
-            renewal_distance: 1e-4,
-        });
+        all.dwell_stiction = Some(dwell());
         assert_eq!(all.kinds().count(), EffectKind::ALL.len(), "the premise");
         let none = Effects::<f64>::none();
         for k in EffectKind::ALL {
             let on = none.with_kind_of(k, &all);
             assert!(on.kinds().eq([k]), "{k:?}");
-            assert_eq!(
-                on,
-                none.with_kind_of(k, &all).without(k).with_kind_of(k, &all)
-            );
-            let off = all.with_kind_of(k, &none);
-            assert_eq!(off, all.without(k), "{k:?}");
+            assert_eq!(on.without(k), none, "{k:?}");
+            // switched off, that kind alone: every other one keeps its value
+            let off = all.without(k);
+            assert!(off
+                .kinds()
+                .eq(EffectKind::ALL.into_iter().filter(|j| *j != k)));
+            assert_eq!(off.with_kind_of(k, &all), all, "{k:?}");
+            assert_eq!(off, all.with_kind_of(k, &none), "{k:?}");
+        }
+    }
+
+    fn dwell() -> DwellStiction<f64> {
+        DwellStiction {
+            max_increase: 1.0,
+            time_constant: 1.0,
+            stick_velocity: 1e-4,
+            renewal_distance: 1e-4,
         }
     }
 }

@@ -331,18 +331,6 @@ pub struct Candidate {
     pub fitted_before_restart: bool,
 }
 
-impl Stage {
-    /// Where none of the stage's candidates is significant and the leading one comes near
-    /// ([`Candidate::near_cut`]): that candidate and the sentence saying so.
-    pub fn near_miss(&self) -> Option<(&Candidate, String)> {
-        if self.candidates.iter().any(|c| c.significant) {
-            return None;
-        }
-        let c = self.candidates.first()?;
-        Some((c, c.near_cut()?))
-    }
-}
-
 impl Candidate {
     /// For the leading candidate of a stage where none is significant: where its evidence is
     /// strong ([`Candidate::detected`]) and its error cut at least [`NEAR_CUT`] but below
@@ -403,6 +391,18 @@ pub struct Stage {
     /// Where the stage's model was replaced by a better fit of its own family that a candidate
     /// revealed ([`BETTER_START_CUT`]), in order.
     pub restarts: Vec<Restart>,
+}
+
+impl Stage {
+    /// Where none of the stage's candidates is significant and the leading one comes near
+    /// ([`Candidate::near_cut`]): that candidate and the sentence saying so.
+    pub fn near_miss(&self) -> Option<(&Candidate, String)> {
+        if self.candidates.iter().any(|c| c.significant) {
+            return None;
+        }
+        let c = self.candidates.first()?;
+        Some((c, c.near_cut()?))
+    }
 }
 
 /// A stage's model replaced by a better start: a significant candidate's fit, its effect
@@ -956,11 +956,13 @@ pub const FITTED_BEFORE_RESTART: &str =
 /// earlier start ([`Candidate::fitted_before_restart`]). All are judged again against the new
 /// model. (A whole second ranking cost 2.4 s of a 60 s record's 6.5 s; the better start only
 /// lowers the reference the others were not significant against.)
+#[allow(clippy::too_many_arguments)]
 fn rank_after_restart(
     p: &Prepared,
     brk: &Breakaway,
     current: &Fit,
-    (before, revealed_by): (Vec<Candidate>, EffectKind),
+    before: Vec<Candidate>,
+    revealed_by: EffectKind,
     fixed_mass: Option<f64>,
     n_eff: f64,
 ) -> Vec<Candidate> {
@@ -1148,13 +1150,7 @@ fn rank_among(
     // a dwell twin stands in for the rest-independent null only where it beats the model
     // judged against (`rest_independent_twin`)
     out.extend(carried.into_iter().map(|mut c| {
-        c.rest_null = c.rest_null.map(|null| {
-            if null.rss <= current.rss {
-                null
-            } else {
-                RestNull::of(&reference)
-            }
-        });
+        c.rest_null = c.rest_null.map(|null| null.or_current(&reference));
         c
     }));
     let by_bic = |a: &Candidate, b: &Candidate| {
@@ -1494,6 +1490,16 @@ impl RestNull {
             rel_err_pct: current.fit.rel_err_pct,
         }
     }
+
+    /// The twin where it scores no worse than the model judged against, else that model (a
+    /// rest-independent breakaway level can only add to the model).
+    fn or_current(self, current: &Current) -> Self {
+        if self.rss <= current.fit.rss {
+            self
+        } else {
+            Self::of(current)
+        }
+    }
 }
 
 /// What a `dwell_stiction` candidate's growth with the rest time was weighed by.
@@ -1535,15 +1541,14 @@ fn rest_independent_twin(
     });
     // (n_eff sets only the standard errors, not the fit)
     let null = fit::refit(&null, p, fixed_mass, n_eff);
-    Some(if null.rss <= current.fit.rss {
+    Some(
         RestNull {
             rss: null.rss,
             peak_rss: brk.peak_rss(&null.prediction),
             rel_err_pct: null.rel_err_pct,
         }
-    } else {
-        RestNull::of(current)
-    })
+        .or_current(current),
+    )
 }
 
 /// The nonlinear parameter of an effect in a model.
@@ -1823,7 +1828,7 @@ fn rank_from_best_start(
             to_rel_err_pct: better.rel_err_pct,
         });
         fit = better;
-        candidates = rank_after_restart(p, brk, &fit, (candidates, revealed_by), fixed_mass, n_eff);
+        candidates = rank_after_restart(p, brk, &fit, candidates, revealed_by, fixed_mass, n_eff);
     }
     (fit, candidates, restarts)
 }

@@ -528,7 +528,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     for s in &d.stages {
         for r in &s.restarts {
             out += &format!(
-                "<p>{}: {}; the candidates were ranked again from there.</p>",
+                "<p>{}: {}; the candidates were judged again against it.</p>",
                 escape(&s.label),
                 escape(&r.to_string())
             );
