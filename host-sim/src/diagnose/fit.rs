@@ -597,87 +597,99 @@ fn linearise<'p>(
         .filter(|(_, q)| cached(q).is_none())
         .map(|(j, q)| (j, *q))
         .collect();
-    let mut cols = vec![Vec::new(); k];
-    for &(j, _) in &built {
-        cols[j] = vec![0.0; n];
-    }
-    for i in 0..n {
-        let v = p.v_step[i];
-        let d = if v >= 0.0 { 1.0 } else { -1.0 };
-        let s = sim.bristle[i];
-        let c = p.conditions(i, &reference);
-        // the Stribeck decay e^{-(|v|/vs)^delta} the model's step used
-        let ex = stribeck_decay[i];
-        let d_t = e
-            .temperature_dependence
-            .map_or(0.0, |t| c.temperature - t.reference_temperature);
-        let tau_c = e
-            .temperature_dependence
-            .map_or(1.0, |t| 1.0 + t.coulomb_per_kelvin * d_t);
-        let kv_fac = e
-            .temperature_dependence
-            .map_or(1.0, |t| (-t.viscous_per_kelvin * d_t).exp());
-        let load_x = e.load_dependence.map_or(0.0, |l| l.basis(c.pressure_sum));
-        let pos_x = e.position_dependence.map_or(0.0, |x| c.position - x.center);
-        let pos_basis = e
-            .position_dependence
-            .filter(|x| x.terms > 0)
-            .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
-        // the load scales both levels by the seal's normal force, `1 + k b(p) / Fs`
-        // (FrictionModel::levels; Fs > 0 is a LugreParams invariant); the position shift is
-        // added after it
-        let load_scale = e
-            .load_dependence
-            .map_or(1.0, |l| (1.0 + l.coefficient * load_x / fs).max(0.0));
-        let shift = e
-            .position_dependence
-            .map_or(0.0, |x| x.shift_from(c.position, &pos_basis));
-        // the viscous force is taken at the sample instant (see FrictionModel::step_split)
-        let v_now = p.v[i];
-        let d_now = if v_now >= 0.0 { 1.0 } else { -1.0 };
-        let v_term = match e.viscous_power {
-            Some(pw) => {
-                d_now
-                    * pw.reference_velocity
-                    * (v_now.abs() / pw.reference_velocity).powf(pw.exponent)
-            }
-            None => v_now,
-        };
-        let w = e
-            .dwell_stiction
-            .map_or(0.0, |dw| -(-sim.dwell[i] / dw.time_constant).exp_m1());
-        // g = Fc (1 + d rc) (1 - e) + Fs (1 + d rs) e, Fs = Fc + hump: the Coulomb level
-        // everywhere, the hump near rest, each with its direction's ratio
-        let (up_c, up_s) = (1.0 + d * rc, 1.0 + d * rs);
-        let level0 = fc * up_c * (1.0 - ex) + fs * up_s * ex;
-        let level = load_scale * level0;
-        // d(load_scale)/d(Fs) = -k b / Fs^2 (k held; zero without the effect), and
-        // Fs = Fc + hump moves with both
-        let scale_per_fs = -(load_scale - 1.0) / fs;
-        for &(j, prm) in &built {
-            cols[j][i] = match prm {
-                // filtered with the record (`cached`): never built here
-                Param::Mass => p.a[i],
-                Param::Coulomb => {
-                    tau_c
-                        * (load_scale * (up_c * (1.0 - ex) + up_s * ex) + scale_per_fs * level0)
-                        * s
+    // the samples `start..` of every built column, in `out` (one slice per built column)
+    let fill = |start: usize, out: &mut [&mut [f64]]| {
+        let len = out.first().map_or(0, |o| o.len());
+        for i in start..start + len {
+            let v = p.v_step[i];
+            let d = if v >= 0.0 { 1.0 } else { -1.0 };
+            let s = sim.bristle[i];
+            let c = p.conditions(i, &reference);
+            // the Stribeck decay e^{-(|v|/vs)^delta} the model's step used
+            let ex = stribeck_decay[i];
+            let d_t = e
+                .temperature_dependence
+                .map_or(0.0, |t| c.temperature - t.reference_temperature);
+            let tau_c = e
+                .temperature_dependence
+                .map_or(1.0, |t| 1.0 + t.coulomb_per_kelvin * d_t);
+            let kv_fac = e
+                .temperature_dependence
+                .map_or(1.0, |t| (-t.viscous_per_kelvin * d_t).exp());
+            let load_x = e.load_dependence.map_or(0.0, |l| l.basis(c.pressure_sum));
+            let pos_x = e.position_dependence.map_or(0.0, |x| c.position - x.center);
+            let pos_basis = e
+                .position_dependence
+                .filter(|x| x.terms > 0)
+                .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
+            // the load scales both levels by the seal's normal force, `1 + k b(p) / Fs`
+            // (FrictionModel::levels; Fs > 0 is a LugreParams invariant); the position shift is
+            // added after it
+            let load_scale = e
+                .load_dependence
+                .map_or(1.0, |l| (1.0 + l.coefficient * load_x / fs).max(0.0));
+            let shift = e
+                .position_dependence
+                .map_or(0.0, |x| x.shift_from(c.position, &pos_basis));
+            // the viscous force is taken at the sample instant (see FrictionModel::step_split)
+            let v_now = p.v[i];
+            let d_now = if v_now >= 0.0 { 1.0 } else { -1.0 };
+            let v_term = match e.viscous_power {
+                Some(pw) => {
+                    d_now
+                        * pw.reference_velocity
+                        * (v_now.abs() / pw.reference_velocity).powf(pw.exponent)
                 }
-                Param::Static => tau_c * (load_scale * up_s * ex + scale_per_fs * level0) * s,
-                Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
-                Param::BristleDamping => sim.deflection_rate[i],
-                Param::AsymCoulomb => tau_c * load_scale * d * fc * (1.0 - ex) * s,
-                Param::AsymStatic => tau_c * load_scale * d * fs * ex * s,
-                Param::AsymViscous => d_now * s2 * kv_fac * v_term,
-                Param::Offset => 1.0,
-                Param::LoadCoefficient => tau_c * load_x / fs * level0 * s,
-                Param::PositionGradient => tau_c * pos_x * s,
-                Param::PositionCosine(j) => tau_c * pos_basis[j] * s,
-                // the shift is added after the direction's ratios (FrictionModel::levels)
-                Param::TempCoulomb => d_t * (level + shift) * s,
-                Param::DwellIncrease => w * ex * s,
+                None => v_now,
             };
+            let w = e
+                .dwell_stiction
+                .map_or(0.0, |dw| -(-sim.dwell[i] / dw.time_constant).exp_m1());
+            // g = Fc (1 + d rc) (1 - e) + Fs (1 + d rs) e, Fs = Fc + hump: the Coulomb level
+            // everywhere, the hump near rest, each with its direction's ratio
+            let (up_c, up_s) = (1.0 + d * rc, 1.0 + d * rs);
+            let level0 = fc * up_c * (1.0 - ex) + fs * up_s * ex;
+            let level = load_scale * level0;
+            // d(load_scale)/d(Fs) = -k b / Fs^2 (k held; zero without the effect), and
+            // Fs = Fc + hump moves with both
+            let scale_per_fs = -(load_scale - 1.0) / fs;
+            for (o, &(_, prm)) in out.iter_mut().zip(&built) {
+                o[i - start] = match prm {
+                    // filtered with the record (`cached`): never built here
+                    Param::Mass => p.a[i],
+                    Param::Coulomb => {
+                        tau_c
+                            * (load_scale * (up_c * (1.0 - ex) + up_s * ex) + scale_per_fs * level0)
+                            * s
+                    }
+                    Param::Static => tau_c * (load_scale * up_s * ex + scale_per_fs * level0) * s,
+                    Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
+                    Param::BristleDamping => sim.deflection_rate[i],
+                    Param::AsymCoulomb => tau_c * load_scale * d * fc * (1.0 - ex) * s,
+                    Param::AsymStatic => tau_c * load_scale * d * fs * ex * s,
+                    Param::AsymViscous => d_now * s2 * kv_fac * v_term,
+                    Param::Offset => 1.0,
+                    Param::LoadCoefficient => tau_c * load_x / fs * level0 * s,
+                    Param::PositionGradient => tau_c * pos_x * s,
+                    Param::PositionCosine(j) => tau_c * pos_basis[j] * s,
+                    // the shift is added after the direction's ratios (FrictionModel::levels)
+                    Param::TempCoulomb => d_t * (level + shift) * s,
+                    Param::DwellIncrease => w * ex * s,
+                };
+            }
         }
+    };
+    // each sample's row depends on that sample only: two halves side by side where a thread
+    // is idle (the same numbers bit for bit)
+    let mut built_cols: Vec<Vec<f64>> = built.iter().map(|_| vec![0.0; n]).collect();
+    {
+        let (mut lo, mut hi): (Vec<&mut [f64]>, Vec<&mut [f64]>) =
+            built_cols.iter_mut().map(|c| c.split_at_mut(n / 2)).unzip();
+        rayon::join(|| fill(0, &mut lo), || fill(n / 2, &mut hi));
+    }
+    let mut cols = vec![Vec::new(); k];
+    for (c, &(j, _)) in built_cols.into_iter().zip(&built) {
+        cols[j] = c;
     }
     let to_filter: Vec<&[f64]> = built.iter().map(|&(j, _)| cols[j].as_slice()).collect();
     let mut filtered = p.filter_many(&to_filter).into_iter();

@@ -440,6 +440,10 @@ pub struct AxisModel {
     pub friction: FrictionModel<f64>,
 }
 
+/// Samples from which a segment is simulated as two halves side by side
+/// (`AxisModel::simulate_segment`): below it the second thread costs more than it saves.
+const MIN_SPLIT_SAMPLES: usize = 4000;
+
 /// What the friction model did along the measured motion.
 #[derive(Clone, Debug)]
 pub struct Simulation {
@@ -485,46 +489,127 @@ impl AxisModel {
 
     fn simulate_given(&self, p: &Prepared, stribeck_decay: Option<&[f64]>) -> Simulation {
         let n = p.len();
-        let reference = self.friction.effects.reference_conditions();
         let mut out = Simulation {
-            friction: Vec::with_capacity(n),
-            bristle: Vec::with_capacity(n),
-            dwell: Vec::with_capacity(n),
-            deflection_rate: Vec::with_capacity(n),
+            friction: vec![0.0; n],
+            bristle: vec![0.0; n],
+            dwell: vec![0.0; n],
+            deflection_rate: vec![0.0; n],
         };
-        let sigma0 = self.friction.params.bristle_stiffness();
-        // the holding force at rest: what the actuator applies less the constant offset
-        let (holds, offset) = (sigma0 > 0.0, self.friction.offset_force());
         for r in &p.segments {
-            // the friction state restarts at each segment (nothing is known across a gap)
-            let mut st = FrictionState::default();
-            for i in r.clone() {
-                let c = p.conditions(i, &reference);
-                let v = p.v_step[i];
-                let decay = stribeck_decay.map(|d| d[i]);
-                let (mut f, g) = self
-                    .friction
-                    .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt, decay);
-                if holds && p.inside_rest[i] {
-                    // at rest the contact carries what the actuator applies, up to its
-                    // static level in that direction
-                    let (fw, bw) = self.friction.levels_by_direction(&c, st.dwell_time);
-                    let held = p.force_motion_band[i] - self.mass_kg * p.a[i] - offset;
-                    // (a level that is not a positive number, from an effect's scaling far
-                    // outside its range, bounds at zero: `clamp` must never see min > max)
-                    let (up, down) = (fw.static_.max(0.0), bw.static_.max(0.0));
-                    // bounded in force, then one division (sigma0 > 0 keeps the order)
-                    let z = held.clamp(-down, up) / sigma0;
-                    f += sigma0 * (z - st.z);
-                    st.z = z;
-                }
-                out.friction.push(f);
-                out.bristle.push((sigma0 * st.z / g).clamp(-1.0, 1.0));
-                out.dwell.push(st.dwell_time);
-                out.deflection_rate.push(st.deflection_rate);
-            }
+            let out = [
+                &mut out.friction[r.clone()],
+                &mut out.bristle[r.clone()],
+                &mut out.dwell[r.clone()],
+                &mut out.deflection_rate[r.clone()],
+            ];
+            self.simulate_segment(p, stribeck_decay, r.clone(), out);
         }
         out
+    }
+
+    /// One segment of [`Self::simulate_given`] into `out` (friction, bristle, dwell, deflection
+    /// rate: the segment's samples). The friction state restarts at the segment's first sample
+    /// (nothing is known across a gap). Where the model has no dwell clock, its state after a
+    /// rest sample is that sample's holding deflection alone, whatever came before: a long
+    /// segment is then run as two halves side by side, split at a rest sample near its middle
+    /// (the same numbers bit for bit).
+    fn simulate_segment(
+        &self,
+        p: &Prepared,
+        stribeck_decay: Option<&[f64]>,
+        r: std::ops::Range<usize>,
+        out: [&mut [f64]; 4],
+    ) {
+        let sigma0 = self.friction.params.bristle_stiffness();
+        let independent_after_rest = sigma0 > 0.0 && self.friction.effects.dwell_stiction.is_none();
+        let mid = r.start + r.len() / 2;
+        let split = (independent_after_rest && r.len() >= MIN_SPLIT_SAMPLES)
+            .then(|| (mid..r.end - 1).find(|&i| p.inside_rest[i]))
+            .flatten();
+        let Some(at) = split else {
+            self.simulate_run(p, stribeck_decay, r, FrictionState::default(), out);
+            return;
+        };
+        // the first half ends with the rest sample `at`, the second starts after it from the
+        // holding deflection there (dwell time 0: no clock)
+        let reference = self.friction.effects.reference_conditions();
+        let c = p.conditions(at, &reference);
+        let start = FrictionState {
+            z: self.holding_deflection(p, at, &c, 0.0),
+            ..FrictionState::default()
+        };
+        let k = at + 1 - r.start;
+        let [f, b, d, q] = out;
+        let (f0, f1) = f.split_at_mut(k);
+        let (b0, b1) = b.split_at_mut(k);
+        let (d0, d1) = d.split_at_mut(k);
+        let (q0, q1) = q.split_at_mut(k);
+        rayon::join(
+            || {
+                self.simulate_run(
+                    p,
+                    stribeck_decay,
+                    r.start..at + 1,
+                    FrictionState::default(),
+                    [f0, b0, d0, q0],
+                )
+            },
+            || self.simulate_run(p, stribeck_decay, at + 1..r.end, start, [f1, b1, d1, q1]),
+        );
+    }
+
+    /// Inside a rest at sample `i`: the deflection that carries what the actuator applies (the
+    /// measured force less `M a` and the constant offset), up to the static level in that
+    /// direction \[m\].
+    fn holding_deflection(
+        &self,
+        p: &Prepared,
+        i: usize,
+        c: &Conditions<f64>,
+        dwell_time: f64,
+    ) -> f64 {
+        let sigma0 = self.friction.params.bristle_stiffness();
+        let (fw, bw) = self.friction.levels_by_direction(c, dwell_time);
+        let held = p.force_motion_band[i] - self.mass_kg * p.a[i] - self.friction.offset_force();
+        // (a level that is not a positive number, from an effect's scaling far
+        // outside its range, bounds at zero: `clamp` must never see min > max)
+        let (up, down) = (fw.static_.max(0.0), bw.static_.max(0.0));
+        // bounded in force, then one division (sigma0 > 0 keeps the order)
+        held.clamp(-down, up) / sigma0
+    }
+
+    /// The model along samples `r` from state `st`, into `out` (as [`Self::simulate_segment`]).
+    fn simulate_run(
+        &self,
+        p: &Prepared,
+        stribeck_decay: Option<&[f64]>,
+        r: std::ops::Range<usize>,
+        mut st: FrictionState<f64>,
+        out: [&mut [f64]; 4],
+    ) {
+        let reference = self.friction.effects.reference_conditions();
+        let sigma0 = self.friction.params.bristle_stiffness();
+        let holds = sigma0 > 0.0;
+        let [fr, br, dw, dr] = out;
+        for (k, i) in r.enumerate() {
+            let c = p.conditions(i, &reference);
+            let v = p.v_step[i];
+            let decay = stribeck_decay.map(|d| d[i]);
+            let (mut f, g) = self
+                .friction
+                .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt, decay);
+            if holds && p.inside_rest[i] {
+                // at rest the contact carries what the actuator applies, up to its
+                // static level in that direction
+                let z = self.holding_deflection(p, i, &c, st.dwell_time);
+                f += sigma0 * (z - st.z);
+                st.z = z;
+            }
+            fr[k] = f;
+            br[k] = (sigma0 * st.z / g).clamp(-1.0, 1.0);
+            dw[k] = st.dwell_time;
+            dr[k] = st.deflection_rate;
+        }
     }
 
     /// Predicted actuator force `M a + F_friction` \[N\] along the measured motion.
@@ -534,5 +619,76 @@ impl AxisModel {
             .zip(&sim.friction)
             .map(|(a, f)| self.mass_kg * a + f)
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lugre_servo::friction::effects::DwellStiction;
+    use lugre_servo::friction::LugreParams;
+
+    /// 8 s at 1 kHz: moves of 0.4 s at 20 mm/s, back and forth, between rests of 0.3 s on a
+    /// 1 um count, the force 200 N sliding and 60 N held.
+    fn moves_and_rests() -> Record {
+        let dt = 1e-3;
+        let mut text = String::from("t,x,force\n");
+        let (mut x, mut dir) = (0.0f64, 1.0f64);
+        for i in 0..8000 {
+            let moving = i % 700 < 400;
+            if moving {
+                x += dir * 0.02 * dt;
+            } else if i % 700 == 699 {
+                dir = -dir;
+            }
+            let f = if moving { dir * 200.0 } else { dir * 60.0 };
+            let t = i as f64 * dt;
+            text.push_str(&format!("{t:.3},{:.7},{f:.3}\n", (x * 1e6).round() * 1e-6));
+        }
+        Record::parse(&text, std::path::Path::new("r.csv")).unwrap()
+    }
+
+    /// The simulation run as two halves split at a rest sample is the one long run, bit for
+    /// bit; with a dwell clock (whose state a rest does not reset) it is not split at all.
+    #[test]
+    fn a_simulation_split_at_a_rest_is_the_whole_run_bit_for_bit() {
+        let rec = moves_and_rests();
+        let p = Prepared::new(&rec, "r.csv", Protocol::default()).unwrap();
+        let n = p.len();
+        assert!(p.segments.len() == 1 && p.segments[0] == (0..n));
+        assert!(n >= MIN_SPLIT_SAMPLES);
+        // the test must exercise the split: a rest sample after the middle
+        assert!((n / 2..n - 1).any(|i| p.inside_rest[i]));
+        let plain = AxisModel {
+            mass_kg: 200.0,
+            friction: FrictionModel::plain(LugreParams::table2()),
+        };
+        let mut dwell = plain;
+        dwell.friction.effects.dwell_stiction = Some(DwellStiction {
+            max_increase: 80.0,
+            time_constant: 0.2,
+            stick_velocity: 1e-4,
+            renewal_distance: 1e-4,
+        });
+        for m in [plain, dwell] {
+            let split = m.simulate(&p);
+            let mut whole = [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+            let [a, b, c, d] = &mut whole;
+            m.simulate_run(&p, None, 0..n, FrictionState::default(), [a, b, c, d]);
+            let got = [
+                &split.friction,
+                &split.bristle,
+                &split.dwell,
+                &split.deflection_rate,
+            ];
+            for (k, (x, y)) in got.iter().zip(&whole).enumerate() {
+                assert!(
+                    x.iter().zip(y).all(|(u, v)| u.to_bits() == v.to_bits()),
+                    "output {k} differs"
+                );
+            }
+            // the rests carry the held force: the model's friction is not trivially zero
+            assert!(split.friction.iter().any(|f| f.abs() > 10.0));
+        }
     }
 }
