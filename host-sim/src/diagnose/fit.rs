@@ -591,11 +591,10 @@ fn linearise<'p>(
         _ => None,
     };
     // the other columns are built here, sample by sample
-    let built: Vec<(usize, Param)> = params
+    let built: Vec<Param> = params
         .iter()
-        .enumerate()
-        .filter(|(_, q)| cached(q).is_none())
-        .map(|(j, q)| (j, *q))
+        .filter(|q| cached(q).is_none())
+        .copied()
         .collect();
     // the samples `start..` of every built column, in `out` (one slice per built column)
     let fill = |start: usize, out: &mut [&mut [f64]]| {
@@ -653,7 +652,7 @@ fn linearise<'p>(
             // d(load_scale)/d(Fs) = -k b / Fs^2 (k held; zero without the effect), and
             // Fs = Fc + hump moves with both
             let scale_per_fs = -(load_scale - 1.0) / fs;
-            for (o, &(_, prm)) in out.iter_mut().zip(&built) {
+            for (o, &prm) in out.iter_mut().zip(&built) {
                 o[i - start] = match prm {
                     // filtered with the record (`cached`): never built here
                     Param::Mass => p.a[i],
@@ -687,11 +686,7 @@ fn linearise<'p>(
             built_cols.iter_mut().map(|c| c.split_at_mut(n / 2)).unzip();
         rayon::join(|| fill(0, &mut lo), || fill(n / 2, &mut hi));
     }
-    let mut cols = vec![Vec::new(); k];
-    for (c, &(j, _)) in built_cols.into_iter().zip(&built) {
-        cols[j] = c;
-    }
-    let to_filter: Vec<&[f64]> = built.iter().map(|&(j, _)| cols[j].as_slice()).collect();
+    let to_filter: Vec<&[f64]> = built_cols.iter().map(|c| c.as_slice()).collect();
     let mut filtered = p.filter_many(&to_filter).into_iter();
     // the cached columns are borrowed, not copied
     let mut cols_f: Vec<Cow<'p, [f64]>> = params
