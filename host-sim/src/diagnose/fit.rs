@@ -596,10 +596,9 @@ fn linearise<'p>(
         .filter(|q| cached(q).is_none())
         .copied()
         .collect();
-    // the samples `start..` of every built column, in `out` (one slice per built column)
-    let fill = |start: usize, out: &mut [&mut [f64]]| {
-        let len = out.first().map_or(0, |o| o.len());
-        for i in start..start + len {
+    // samples `rows` of every built column, into `out` (one slice per built column)
+    let fill = |rows: std::ops::Range<usize>, out: &mut [&mut [f64]]| {
+        for (k, i) in rows.enumerate() {
             let v = p.v_step[i];
             let d = if v >= 0.0 { 1.0 } else { -1.0 };
             let s = sim.bristle[i];
@@ -653,7 +652,7 @@ fn linearise<'p>(
             // Fs = Fc + hump moves with both
             let scale_per_fs = -(load_scale - 1.0) / fs;
             for (o, &prm) in out.iter_mut().zip(&built) {
-                o[i - start] = match prm {
+                o[k] = match prm {
                     // filtered with the record (`cached`): never built here
                     Param::Mass => p.a[i],
                     Param::Coulomb => {
@@ -684,7 +683,7 @@ fn linearise<'p>(
     {
         let (mut lo, mut hi): (Vec<&mut [f64]>, Vec<&mut [f64]>) =
             built_cols.iter_mut().map(|c| c.split_at_mut(n / 2)).unzip();
-        rayon::join(|| fill(0, &mut lo), || fill(n / 2, &mut hi));
+        rayon::join(|| fill(0..n / 2, &mut lo), || fill(n / 2..n, &mut hi));
     }
     let to_filter: Vec<&[f64]> = built_cols.iter().map(|c| c.as_slice()).collect();
     let mut filtered = p.filter_many(&to_filter).into_iter();

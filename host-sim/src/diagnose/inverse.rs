@@ -525,9 +525,11 @@ impl AxisModel {
         let sigma0 = self.friction.params.bristle_stiffness();
         let independent_after_rest = sigma0 > 0.0 && self.friction.effects.dwell_stiction.is_none();
         let mid = r.start + r.len() / 2;
-        let split = (independent_after_rest && r.len() >= MIN_SPLIT_SAMPLES)
-            .then(|| (mid..r.end - 1).find(|&i| p.inside_rest[i]))
-            .flatten();
+        let split = if independent_after_rest && r.len() >= MIN_SPLIT_SAMPLES {
+            (mid..r.end - 1).find(|&i| p.inside_rest[i])
+        } else {
+            None
+        };
         let Some(at) = split else {
             self.simulate_run(p, stribeck_decay, r, FrictionState::default(), out);
             return;

@@ -1177,8 +1177,12 @@ fn rank_among(
         .filter(|&b| b > 0.0)
         .map_or(f64::NEG_INFINITY, |b| LEADER_REACH * b);
     let leaders: Vec<usize> = (0..out.len())
-        .filter(|&i| out[i].fit.is_some() && !carried_kinds.contains(&out[i].kind))
-        .filter(|&i| out[i].delta_bic.is_some_and(|b| b >= reach))
+        .filter(|&i| {
+            let c = &out[i];
+            c.fit.is_some()
+                && !carried_kinds.contains(&c.kind)
+                && c.delta_bic.is_some_and(|b| b >= reach)
+        })
         .take(POLISHED_LEADERS)
         .collect();
     let polished: Vec<(usize, Fit)> = leaders

@@ -507,14 +507,12 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                 escape(c.kind.name())
             );
         }
-    } else if let Some((c, why)) = first.near_miss() {
-        if d.stages.len() == 1 {
-            out += &format!(
-                "<p>No effect is significant. The leading candidate, <b>{}</b>, is {}.</p>",
-                escape(c.kind.name()),
-                escape(&why),
-            );
-        }
+    } else if let Some((c, why)) = first.near_miss().filter(|_| d.stages.len() == 1) {
+        out += &format!(
+            "<p>No effect is significant. The leading candidate, <b>{}</b>, is {}.</p>",
+            escape(c.kind.name()),
+            escape(&why),
+        );
     }
     out += "<p>Error = 100 ||F - F_hat|| / ||F|| on the force filtered at 20 Hz, over the samples where the axis moves \
             (while stuck, friction balances whatever force is applied and cannot be predicted from the motion).</p>";
