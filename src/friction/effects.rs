@@ -444,6 +444,41 @@ impl<T: Float> Effects<T> {
     }
 }
 
+/// A set with every effect on, each with a value of its own (for tests).
+#[cfg(test)]
+pub(crate) fn every_effect() -> Effects<f64> {
+    let mut all = Effects::<f64>::none();
+    all.asymmetry = Some(Asymmetry {
+        coulomb_ratio: 0.1,
+        static_ratio: 0.2,
+        viscous_ratio: 0.3,
+    });
+    all.offset = Some(Offset { force: 1.0 });
+    all.load_dependence = Some(LoadDependence {
+        coefficient: 1e-6,
+        reference_pressure_sum: 1e7,
+        exponent: 1.0,
+    });
+    all.position_dependence = Some(PositionDependence::linear(2.0, 0.0));
+    all.temperature_dependence = Some(TemperatureDependence {
+        viscous_per_kelvin: 0.01,
+        coulomb_per_kelvin: 0.001,
+        reference_temperature: 40.0,
+    });
+    all.stribeck_shape = Some(StribeckShape { exponent: 1.5 });
+    all.viscous_power = Some(ViscousPower {
+        exponent: 0.7,
+        reference_velocity: 0.01,
+    });
+    all.dwell_stiction = Some(DwellStiction {
+        max_increase: 1.0,
+        time_constant: 1.0,
+        stick_velocity: 1e-4,
+        renewal_distance: 1e-4,
+    });
+    all
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -458,7 +493,7 @@ mod tests {
         let mut e = Effects::<f64>::none();
         assert_eq!(e.kinds().count(), 0);
         e.offset = Some(Offset { force: 1.0 });
-        e.dwell_stiction = Some(dwell());
+        e.dwell_stiction = every_effect().dwell_stiction;
         let on: [EffectKind; 2] = [EffectKind::Offset, EffectKind::DwellStiction];
         assert!(e.kinds().eq(on));
         assert!(EffectKind::ALL.iter().all(|k| e.has(*k) == on.contains(k)));
@@ -467,30 +502,7 @@ mod tests {
     /// `with_kind_of` takes exactly one kind from the other set, on or off, for every kind.
     #[test]
     fn with_kind_of_takes_one_kind_only() {
-        let mut all = Effects::<f64>::none();
-        all.asymmetry = Some(Asymmetry {
-            coulomb_ratio: 0.1,
-            static_ratio: 0.2,
-            viscous_ratio: 0.3,
-        });
-        all.offset = Some(Offset { force: 1.0 });
-        all.load_dependence = Some(LoadDependence {
-            coefficient: 1e-6,
-            reference_pressure_sum: 1e7,
-            exponent: 1.0,
-        });
-        all.position_dependence = Some(PositionDependence::linear(2.0, 0.0));
-        all.temperature_dependence = Some(TemperatureDependence {
-            viscous_per_kelvin: 0.01,
-            coulomb_per_kelvin: 0.001,
-            reference_temperature: 40.0,
-        });
-        all.stribeck_shape = Some(StribeckShape { exponent: 1.5 });
-        all.viscous_power = Some(ViscousPower {
-            exponent: 0.7,
-            reference_velocity: 0.01,
-        });
-        all.dwell_stiction = Some(dwell());
+        let all = every_effect();
         assert_eq!(all.kinds().count(), EffectKind::ALL.len(), "the premise");
         let none = Effects::<f64>::none();
         for k in EffectKind::ALL {
@@ -504,15 +516,6 @@ mod tests {
                 .eq(EffectKind::ALL.into_iter().filter(|j| *j != k)));
             assert_eq!(off.with_kind_of(k, &all), all, "{k:?}");
             assert_eq!(off, all.with_kind_of(k, &none), "{k:?}");
-        }
-    }
-
-    fn dwell() -> DwellStiction<f64> {
-        DwellStiction {
-            max_increase: 1.0,
-            time_constant: 1.0,
-            stick_velocity: 1e-4,
-            renewal_distance: 1e-4,
         }
     }
 }

@@ -18,6 +18,22 @@ pub struct Levels<T> {
     pub viscous: T,
 }
 
+/// The levels of a model in which they do not depend on the conditions or the dwell time,
+/// forward (v >= 0) and backward: only [`FrictionModel::constant_levels`] makes them, so a
+/// step given them cannot be given the levels of some other conditions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConstantLevels<T> {
+    forward: Levels<T>,
+    backward: Levels<T>,
+}
+
+impl<T: Copy> ConstantLevels<T> {
+    /// Forward (v >= 0) and backward levels.
+    pub fn by_direction(&self) -> (Levels<T>, Levels<T>) {
+        (self.forward, self.backward)
+    }
+}
+
 /// What the conditions (pressure, position, temperature) and the dwell time do to the levels,
 /// whatever the direction (see [`FrictionModel::levels`]).
 #[derive(Clone, Copy, Debug)]
@@ -321,6 +337,89 @@ impl<T: ModelFloat> FrictionModel<T> {
         // The levels depend on the velocity only through the direction of `asymmetry`: one
         // evaluation per direction serves the step, the bound and the viscous force.
         let (forward, backward) = self.levels_by_direction(c, s.dwell_time);
+        self.step_driven_at_levels(
+            s,
+            drive,
+            mean_velocity,
+            velocity,
+            dt,
+            stribeck_decay,
+            forward,
+            backward,
+        )
+    }
+
+    /// The levels of both directions when nothing makes them depend on the conditions or
+    /// the dwell time (no load, position, temperature or dwell effect): the same at every
+    /// sample, so a caller stepping the model along a record evaluates them once. `None`
+    /// otherwise.
+    pub fn constant_levels(&self) -> Option<ConstantLevels<T>> {
+        // every field named: an effect added later must be placed on one side or the other
+        let Effects {
+            asymmetry: _,
+            offset: _,
+            viscous_power: _,
+            stribeck_shape: _,
+            load_dependence,
+            position_dependence,
+            temperature_dependence,
+            dwell_stiction,
+        } = self.effects;
+        if load_dependence.is_some()
+            || position_dependence.is_some()
+            || temperature_dependence.is_some()
+            || dwell_stiction.is_some()
+        {
+            return None;
+        }
+        let anywhere = Conditions {
+            position: T::zero(),
+            pressure_sum: T::zero(),
+            temperature: T::zero(),
+        };
+        let (forward, backward) = self.levels_by_direction(&anywhere, T::zero());
+        Some(ConstantLevels { forward, backward })
+    }
+
+    /// [`Self::step_split_with_curve`] of a model whose levels are constant, given them
+    /// (from this model's [`Self::constant_levels`]): the same result, bit for bit, without
+    /// evaluating them at each step.
+    pub fn step_split_at_constant_levels(
+        &self,
+        s: &mut FrictionState<T>,
+        mean_velocity: T,
+        velocity: T,
+        dt: T,
+        stribeck_decay: Option<T>,
+        levels: &ConstantLevels<T>,
+    ) -> (T, T) {
+        self.step_driven_at_levels(
+            s,
+            mean_velocity,
+            mean_velocity,
+            velocity,
+            dt,
+            stribeck_decay,
+            levels.forward,
+            levels.backward,
+        )
+    }
+
+    /// The step of [`Self::step_driven_with_curve`] once the dwell clock has moved and the
+    /// levels of both directions are known.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn step_driven_at_levels(
+        &self,
+        s: &mut FrictionState<T>,
+        drive: T,
+        mean_velocity: T,
+        velocity: T,
+        dt: T,
+        stribeck_decay: Option<T>,
+        forward: Levels<T>,
+        backward: Levels<T>,
+    ) -> (T, T) {
         let at = |v: T| if v >= T::zero() { forward } else { backward };
         let l = at(mean_velocity);
         // a given decay outside [0, 1] (NaN included) breaks the contract: computed instead
@@ -652,6 +751,65 @@ mod tests {
             assert_eq!(s.dwell_time, 0.0, "{bad}");
             assert!(f.is_finite());
         }
+    }
+
+    /// Only effects that leave the levels alone make them constant, and a step at those
+    /// constant levels is the step itself, bit for bit, along moves, reversals and rests at
+    /// changing conditions (the decay given or not).
+    #[test]
+    fn a_step_at_constant_levels_is_the_step_bit_for_bit() {
+        let all = every_effect();
+        let moving = [
+            EffectKind::LoadDependence,
+            EffectKind::PositionDependence,
+            EffectKind::TemperatureDependence,
+            EffectKind::DwellStiction,
+        ];
+        for k in EffectKind::ALL {
+            let mut m = base();
+            m.effects = Effects::none().with_kind_of(k, &all);
+            assert_eq!(m.constant_levels().is_none(), moving.contains(&k), "{k:?}");
+        }
+        let mut m = base();
+        m.effects = moving.iter().fold(all, |e, k| e.without(*k));
+        assert_eq!(
+            m.effects.kinds().count(),
+            EffectKind::ALL.len() - moving.len()
+        );
+        let levels = m
+            .constant_levels()
+            .expect("no effect that moves the levels");
+        let (mut stepped, mut at_levels) = (FrictionState::default(), FrictionState::default());
+        for i in 0..3000 {
+            let t = i as f64 * 1e-3;
+            // 0.3 s moves at up to 40 mm/s, each direction in turn, between 0.2 s rests
+            let v = if i % 500 < 300 {
+                0.04 * (t * 7.0).sin()
+            } else {
+                0.0
+            };
+            let c = Conditions {
+                position: 0.1 * t,
+                pressure_sum: 1e7 * (1.0 + t),
+                temperature: 30.0 + 5.0 * t,
+            };
+            let decay = (i % 2 == 0).then(|| m.stribeck_decay(v));
+            let a = m.step_split_with_curve(&mut stepped, v, 1.01 * v, &c, 1e-3, decay);
+            let b =
+                m.step_split_at_constant_levels(&mut at_levels, v, 1.01 * v, 1e-3, decay, &levels);
+            assert_eq!(
+                (a.0.to_bits(), a.1.to_bits()),
+                (b.0.to_bits(), b.1.to_bits()),
+                "{i}"
+            );
+            assert_eq!(stepped.z.to_bits(), at_levels.z.to_bits(), "{i}");
+            assert_eq!(
+                stepped.deflection_rate.to_bits(),
+                at_levels.deflection_rate.to_bits(),
+                "{i}"
+            );
+        }
+        assert_eq!(levels.by_direction(), m.levels_by_direction(&REF, 0.0));
     }
 
     #[test]

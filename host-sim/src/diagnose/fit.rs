@@ -497,12 +497,10 @@ fn linear_step(lin: &Linearisation<'_>, p: &Prepared, mu: f64) -> (AxisModel, Ve
         let cap = lin.bounds.range(Param::Coulomb).1;
         theta[h] = theta[h].min((cap - theta[c]).max(0.0));
     }
-    let rss_lin: f64 = (0..p.len())
-        .map(|i| {
-            let pred: f64 = (0..k).map(|j| theta[j] * lin.cols_f[j][i]).sum();
-            p.weight[i] * (lin.target[i] - pred).powi(2)
-        })
-        .sum();
+    let mut rss_lin = -0.0;
+    for_each_combination(&lin.cols_f, &theta, p.len(), |i, pred| {
+        rss_lin += p.weight[i] * (lin.target[i] - pred).powi(2);
+    });
     let sigma2_noise = rss_lin / (lin.n_scored - k as f64).max(1.0);
     let var =
         |a: usize, b: usize| sigma2_noise * lin.cov[(a, b)] * lin.inflation / (scale[a] * scale[b]);
@@ -700,12 +698,10 @@ fn linearise<'p>(
     // bilinear terms (rc Fc, rv sigma2) are linearised correctly. The filter is linear: the
     // filtered model0 is the prediction the fit already scored, less the filtered columns.
     let theta0: Vec<f64> = params.iter().map(|q| theta_of(m, *q)).collect();
-    let offset_f: Vec<f64> = (0..n)
-        .map(|i| {
-            let j_theta0: f64 = (0..k).map(|j| theta0[j] * cols_f[j][i]).sum();
-            prediction[i] - j_theta0
-        })
-        .collect();
+    let mut offset_f = vec![0.0; n];
+    for_each_combination(&cols_f, &theta0, n, |i, j_theta0| {
+        offset_f[i] = prediction[i] - j_theta0;
+    });
     for c in cols_f.iter_mut() {
         if c.iter().any(|v| !v.is_finite()) {
             c.to_mut().iter_mut().for_each(|v| *v = 0.0);
@@ -773,6 +769,32 @@ fn linearise<'p>(
         bounds: Bounds::of(m, p, fixed_mass),
         n_scored,
         inflation: n_scored / n_eff,
+    }
+}
+
+/// Hands `each(i, sum_j coef[j] cols[j][i])` every sample `i < n`, in sample order. The columns
+/// are read in blocks, each one contiguous (its products vectorise; a row across the columns
+/// strides through memory), and each sample's sum runs over the columns in order from -0.0, as
+/// `Iterator::sum` of its row: the same numbers bit for bit.
+fn for_each_combination(
+    cols: &[impl AsRef<[f64]>],
+    coef: &[f64],
+    n: usize,
+    mut each: impl FnMut(usize, f64),
+) {
+    const BLOCK: usize = 256;
+    let mut acc = [0.0f64; BLOCK];
+    for start in (0..n).step_by(BLOCK) {
+        let acc = &mut acc[..BLOCK.min(n - start)];
+        acc.fill(-0.0);
+        for (c, &t) in cols.iter().zip(coef) {
+            for (a, v) in acc.iter_mut().zip(&c.as_ref()[start..]) {
+                *a += t * v;
+            }
+        }
+        for (o, a) in acc.iter().enumerate() {
+            each(start + o, *a);
+        }
     }
 }
 
@@ -966,7 +988,26 @@ pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
             .min_by(|&a, &b| vals[a].0.total_cmp(&vals[b].0))
             .unwrap_or(0)
     };
-    let eval = |points: &[f64]| points.par_iter().map(|&x| f(x)).collect::<Vec<_>>();
+    // a grid clamped at an edge holds a point more than once: each distinct point is
+    // evaluated once (bit for bit what evaluating it again would give)
+    let eval = |points: &[f64]| {
+        let first_of: Vec<usize> = (0..points.len())
+            .map(|i| {
+                (0..i)
+                    .find(|&j| points[j].to_bits() == points[i].to_bits())
+                    .unwrap_or(i)
+            })
+            .collect();
+        let distinct: Vec<usize> = (0..points.len()).filter(|&i| first_of[i] == i).collect();
+        let mut vals: Vec<Option<(f64, T)>> = vec![None; points.len()];
+        let computed: Vec<(f64, T)> = distinct.par_iter().map(|&i| f(points[i])).collect();
+        for (i, v) in distinct.into_iter().zip(computed) {
+            vals[i] = Some(v);
+        }
+        (0..points.len())
+            .filter_map(|i| vals[first_of[i]].clone())
+            .collect::<Vec<_>>()
+    };
     let mut vals = eval(&grid[..first.max(1).min(grid.len())]);
     if vals.len() < grid.len() && argmin(&vals) + 1 == vals.len() {
         vals.extend(eval(&grid[vals.len()..]));
@@ -1179,5 +1220,60 @@ mod grid_tests {
         let (x, _, profile) = grid_min_extending(&grid, grid.len(), |x| ((x - 7.3).powi(2), ()));
         assert_eq!(profile.len(), 10);
         assert!((x - 7.3).abs() < 1e-9);
+    }
+
+    /// A scan clamped at its bound holds that point three times: it is evaluated once, and the
+    /// profile still lists every point of the grid with its value.
+    #[test]
+    fn a_grid_point_given_twice_is_evaluated_once() {
+        let objective = |x: f64| (x - 0.3).powi(2);
+        let clamped = [0.0, 0.0, 0.0, 0.5, 1.0];
+        let calls = AtomicUsize::new(0);
+        let (x, value, profile) = grid_min(&clamped, |x| {
+            calls.fetch_add(1, Ordering::Relaxed);
+            (objective(x), x)
+        });
+        // three distinct points, then the vertex of the parabola about the best (0.5)
+        assert_eq!(calls.into_inner(), 4);
+        assert_eq!(profile.len(), clamped.len() + 1);
+        for (q, x) in profile.iter().zip(clamped) {
+            assert_eq!(*q, (x, objective(x)));
+        }
+        assert!((x - 0.3).abs() < 1e-12 && value == x, "{x} {value}");
+    }
+
+    /// The column-blocked combination is each sample's row sum, bit for bit: over a length
+    /// that is no multiple of the block, with signed zeros and values of every scale (some
+    /// products overflow).
+    #[test]
+    fn a_combination_by_blocks_is_the_row_sum_bit_for_bit() {
+        let n = 1000;
+        let value = |j: usize, i: usize| {
+            let u = ((i * 7919 + j * 104_729) % 1009) as f64 / 1009.0 - 0.5;
+            match (i + j) % 11 {
+                0 => -0.0,
+                1 => 0.0,
+                2 => u * 1e300,
+                3 => u * 1e-300,
+                _ => u * 10f64.powi((i % 13) as i32 - 6),
+            }
+        };
+        let cols: Vec<Vec<f64>> = (0..4)
+            .map(|j| (0..n).map(|i| value(j, i)).collect())
+            .collect();
+        for coef in [
+            [1.5, -0.0, 3e-7, -2e5],
+            [-0.0, -0.0, -0.0, 0.0],
+            [1.0, 1.0, -1.0, 1e10],
+        ] {
+            let mut seen = 0;
+            for_each_combination(&cols, &coef, n, |i, got| {
+                let want: f64 = (0..4).map(|j| coef[j] * cols[j][i]).sum();
+                assert_eq!(got.to_bits(), want.to_bits(), "sample {i}: {got} {want}");
+                assert_eq!(i, seen, "in sample order");
+                seen += 1;
+            });
+            assert_eq!(seen, n);
+        }
     }
 }

@@ -10,7 +10,7 @@
 use crate::error::{DataProblem, Error, Result};
 use crate::record::Record;
 use crate::signal::{central_difference, segmented, LowPass};
-use lugre_servo::friction::{Conditions, FrictionModel, FrictionState};
+use lugre_servo::friction::{Conditions, FrictionModel, FrictionState, Levels};
 
 /// Filter settings of the inverse model.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -539,7 +539,7 @@ impl AxisModel {
         let reference = self.friction.effects.reference_conditions();
         let c = p.conditions(at, &reference);
         let start = FrictionState {
-            z: self.holding_deflection(p, at, &c, 0.0),
+            z: self.holding_deflection(p, at, self.friction.levels_by_direction(&c, 0.0)),
             ..FrictionState::default()
         };
         let k = at + 1 - r.start;
@@ -569,11 +569,9 @@ impl AxisModel {
         &self,
         p: &Prepared,
         i: usize,
-        c: &Conditions<f64>,
-        dwell_time: f64,
+        (fw, bw): (Levels<f64>, Levels<f64>),
     ) -> f64 {
         let sigma0 = self.friction.params.bristle_stiffness();
-        let (fw, bw) = self.friction.levels_by_direction(c, dwell_time);
         let held = p.force_motion_band[i] - self.mass_kg * p.a[i] - self.friction.offset_force();
         // (a level that is not a positive number, from an effect's scaling far
         // outside its range, bounds at zero: `clamp` must never see min > max)
@@ -594,18 +592,36 @@ impl AxisModel {
         let reference = self.friction.effects.reference_conditions();
         let sigma0 = self.friction.params.bristle_stiffness();
         let holds = sigma0 > 0.0;
+        // levels that no condition moves are evaluated once, not at every sample
+        let constant = self.friction.constant_levels();
         let [fr, br, dw, dr] = out;
         for (k, i) in r.enumerate() {
-            let c = p.conditions(i, &reference);
             let v = p.v_step[i];
             let decay = stribeck_decay.map(|d| d[i]);
-            let (mut f, g) = self
-                .friction
-                .step_split_with_curve(&mut st, v, p.v[i], &c, p.dt, decay);
+            let (mut f, g) = match &constant {
+                Some(l) => self
+                    .friction
+                    .step_split_at_constant_levels(&mut st, v, p.v[i], p.dt, decay, l),
+                None => self.friction.step_split_with_curve(
+                    &mut st,
+                    v,
+                    p.v[i],
+                    &p.conditions(i, &reference),
+                    p.dt,
+                    decay,
+                ),
+            };
             if holds && p.inside_rest[i] {
                 // at rest the contact carries what the actuator applies, up to its
                 // static level in that direction
-                let z = self.holding_deflection(p, i, &c, st.dwell_time);
+                let levels = constant.map_or_else(
+                    || {
+                        self.friction
+                            .levels_by_direction(&p.conditions(i, &reference), st.dwell_time)
+                    },
+                    |l| l.by_direction(),
+                );
+                let z = self.holding_deflection(p, i, levels);
                 f += sigma0 * (z - st.z);
                 st.z = z;
             }
