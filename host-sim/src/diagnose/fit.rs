@@ -991,22 +991,18 @@ pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     // a grid clamped at an edge holds a point more than once: each distinct point is
     // evaluated once (bit for bit what evaluating it again would give)
     let eval = |points: &[f64]| {
-        let first_of: Vec<usize> = (0..points.len())
-            .map(|i| {
-                (0..i)
-                    .find(|&j| points[j].to_bits() == points[i].to_bits())
-                    .unwrap_or(i)
+        let mut distinct: Vec<f64> = Vec::new();
+        let slot: Vec<usize> = (points.iter())
+            .map(|x| {
+                let known = distinct.iter().position(|d| d.to_bits() == x.to_bits());
+                known.unwrap_or_else(|| {
+                    distinct.push(*x);
+                    distinct.len() - 1
+                })
             })
             .collect();
-        let distinct: Vec<usize> = (0..points.len()).filter(|&i| first_of[i] == i).collect();
-        let mut vals: Vec<Option<(f64, T)>> = vec![None; points.len()];
-        let computed: Vec<(f64, T)> = distinct.par_iter().map(|&i| f(points[i])).collect();
-        for (i, v) in distinct.into_iter().zip(computed) {
-            vals[i] = Some(v);
-        }
-        (0..points.len())
-            .filter_map(|i| vals[first_of[i]].clone())
-            .collect::<Vec<_>>()
+        let vals: Vec<(f64, T)> = distinct.par_iter().map(|&x| f(x)).collect();
+        slot.iter().map(|&s| vals[s].clone()).collect::<Vec<_>>()
     };
     let mut vals = eval(&grid[..first.max(1).min(grid.len())]);
     if vals.len() < grid.len() && argmin(&vals) + 1 == vals.len() {
@@ -1225,7 +1221,7 @@ mod grid_tests {
     /// A scan clamped at its bound holds that point three times: it is evaluated once, and the
     /// profile still lists every point of the grid with its value.
     #[test]
-    fn a_grid_point_given_twice_is_evaluated_once() {
+    fn a_grid_point_given_more_than_once_is_evaluated_once() {
         let objective = |x: f64| (x - 0.3).powi(2);
         let clamped = [0.0, 0.0, 0.0, 0.5, 1.0];
         let calls = AtomicUsize::new(0);
