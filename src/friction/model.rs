@@ -27,11 +27,19 @@ pub struct ConstantLevels<T> {
     backward: Levels<T>,
 }
 
-impl<T: Copy> ConstantLevels<T> {
-    /// Forward (v >= 0) and backward levels.
-    pub fn by_direction(&self) -> (Levels<T>, Levels<T>) {
-        (self.forward, self.backward)
-    }
+/// What one step of [`FrictionModel::step_split_with_curve`] did, for an inverse model that
+/// reads more than the force: the levels it stepped at, so that nothing is evaluated twice.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveStep<T> {
+    /// Friction force at the end of the step \[N\].
+    pub force: T,
+    /// The Stribeck level `g(v)` of the bristle step \[N\] (at the mean velocity, after the
+    /// dwell clock moved): the bristle's loading is `sigma0 z / g`.
+    pub stribeck_level: T,
+    /// The levels forward (v >= 0) at the step's conditions and dwell time.
+    pub forward: Levels<T>,
+    /// The levels backward (v < 0) at the step's conditions and dwell time.
+    pub backward: Levels<T>,
 }
 
 /// What the conditions (pressure, position, temperature) and the dwell time do to the levels,
@@ -256,9 +264,10 @@ impl<T: ModelFloat> FrictionModel<T> {
         self.step_driven(s, mean_velocity, mean_velocity, velocity, c, dt)
     }
 
-    /// As [`Self::step_split`], also returning the Stribeck level `g(v)` \[N\] the step used
-    /// (at the mean velocity, after the dwell clock moved): an inverse model reads the
-    /// bristle's loading `sigma0 z / g` from it without evaluating the levels a second time.
+    /// As [`Self::step_split`], also returning the Stribeck level `g(v)` \[N\] and the levels
+    /// the step used ([`CurveStep`]): an inverse model reads the bristle's loading
+    /// `sigma0 z / g` and the static levels that bound a held force from it without
+    /// evaluating the levels a second time.
     ///
     /// `stribeck_decay`, when given, is [`Self::stribeck_decay`]`(mean_velocity)` of a model
     /// with this one's `vs` and shape (then the result is the same, bit for bit; a value
@@ -273,16 +282,24 @@ impl<T: ModelFloat> FrictionModel<T> {
         c: &Conditions<T>,
         dt: T,
         stribeck_decay: Option<T>,
-    ) -> (T, T) {
-        self.step_driven_with_curve(
+    ) -> CurveStep<T> {
+        let (forward, backward) = self.clock_and_levels(s, mean_velocity, c, dt);
+        let (force, stribeck_level) = self.step_driven_at_levels(
             s,
             mean_velocity,
             mean_velocity,
             velocity,
-            c,
             dt,
             stribeck_decay,
-        )
+            forward,
+            backward,
+        );
+        CurveStep {
+            force,
+            stribeck_level,
+            forward,
+            backward,
+        }
     }
 
     /// As [`Self::step_split`], with the bristle equation driven by `drive`
@@ -300,25 +317,32 @@ impl<T: ModelFloat> FrictionModel<T> {
         c: &Conditions<T>,
         dt: T,
     ) -> T {
-        self.step_driven_with_curve(s, drive, mean_velocity, velocity, c, dt, None)
-            .0
+        let (forward, backward) = self.clock_and_levels(s, mean_velocity, c, dt);
+        self.step_driven_at_levels(
+            s,
+            drive,
+            mean_velocity,
+            velocity,
+            dt,
+            None,
+            forward,
+            backward,
+        )
+        .0
     }
 
-    /// [`Self::step_driven`] and the Stribeck level `g(v)` \[N\] of its bristle step, the
-    /// Stribeck decay at the mean velocity computed here or given (see
-    /// [`Self::step_split_with_curve`]).
-    #[inline]
-    #[allow(clippy::too_many_arguments)]
-    fn step_driven_with_curve(
+    /// Moves the dwell clock over a step at `mean_velocity` and returns the levels of both
+    /// directions, forward then backward, at conditions `c` and the clock's new time: the
+    /// levels depend on the velocity only through the direction of `asymmetry`, so one
+    /// evaluation per direction serves the step, the bound and the viscous force.
+    #[inline(always)]
+    fn clock_and_levels(
         &self,
         s: &mut FrictionState<T>,
-        drive: T,
         mean_velocity: T,
-        velocity: T,
         c: &Conditions<T>,
         dt: T,
-        stribeck_decay: Option<T>,
-    ) -> (T, T) {
+    ) -> (Levels<T>, Levels<T>) {
         if let Some(d) = self.effects.dwell_stiction {
             // Timer runs while stuck and is forgotten over the renewal distance once the axis
             // slides (a distance that is zero, negative or not a number forgets at once).
@@ -334,19 +358,7 @@ impl<T: ModelFloat> FrictionModel<T> {
                 };
             }
         }
-        // The levels depend on the velocity only through the direction of `asymmetry`: one
-        // evaluation per direction serves the step, the bound and the viscous force.
-        let (forward, backward) = self.levels_by_direction(c, s.dwell_time);
-        self.step_driven_at_levels(
-            s,
-            drive,
-            mean_velocity,
-            velocity,
-            dt,
-            stribeck_decay,
-            forward,
-            backward,
-        )
+        self.levels_by_direction(c, s.dwell_time)
     }
 
     /// The levels of both directions when nothing makes them depend on the conditions or
@@ -392,8 +404,8 @@ impl<T: ModelFloat> FrictionModel<T> {
         dt: T,
         stribeck_decay: Option<T>,
         levels: &ConstantLevels<T>,
-    ) -> (T, T) {
-        self.step_driven_at_levels(
+    ) -> CurveStep<T> {
+        let (force, stribeck_level) = self.step_driven_at_levels(
             s,
             mean_velocity,
             mean_velocity,
@@ -402,11 +414,19 @@ impl<T: ModelFloat> FrictionModel<T> {
             stribeck_decay,
             levels.forward,
             levels.backward,
-        )
+        );
+        CurveStep {
+            force,
+            stribeck_level,
+            forward: levels.forward,
+            backward: levels.backward,
+        }
     }
 
-    /// The step of [`Self::step_driven_with_curve`] once the dwell clock has moved and the
-    /// levels of both directions are known.
+    /// The step once the dwell clock has moved and the levels of both directions are known
+    /// ([`Self::clock_and_levels`]): the force \[N\] and the Stribeck level `g(v)` \[N\] of the
+    /// bristle step, the Stribeck decay at the mean velocity computed here or given (see
+    /// [`Self::step_split_with_curve`]).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn step_driven_at_levels(
@@ -544,8 +564,12 @@ mod tests {
             let fa = m.step_split_with_curve(&mut a, v_mean, v_end, &c, 1e-3, None);
             let d = m.stribeck_decay(v_mean);
             let fb = m.step_split_with_curve(&mut b, v_mean, v_end, &c, 1e-3, Some(d));
-            assert_eq!(fa.0.to_bits(), fb.0.to_bits(), "force at {i}");
-            assert_eq!(fa.1.to_bits(), fb.1.to_bits(), "g at {i}");
+            assert_eq!(fa.force.to_bits(), fb.force.to_bits(), "force at {i}");
+            assert_eq!(
+                fa.stribeck_level.to_bits(),
+                fb.stribeck_level.to_bits(),
+                "g at {i}"
+            );
             assert_eq!(a, b, "state at {i}");
         }
         // a decay that breaks the contract (NaN, out of [0, 1]) is computed instead, never used
@@ -553,7 +577,7 @@ mod tests {
             let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
             let fa = m.step_split_with_curve(&mut a, 0.001, 0.001, &REF, 1e-3, None);
             let fb = m.step_split_with_curve(&mut b, 0.001, 0.001, &REF, 1e-3, Some(bad));
-            assert_eq!(fa.0.to_bits(), fb.0.to_bits(), "decay {bad}");
+            assert_eq!(fa.force.to_bits(), fb.force.to_bits(), "decay {bad}");
             assert_eq!(a, b, "decay {bad}");
         }
         // and the decay is the curve's: g = Fc + (Fs - Fc) s(v) at the levels
@@ -798,8 +822,15 @@ mod tests {
             let b =
                 m.step_split_at_constant_levels(&mut at_levels, v, 1.01 * v, 1e-3, decay, &levels);
             assert_eq!(
-                (a.0.to_bits(), a.1.to_bits()),
-                (b.0.to_bits(), b.1.to_bits()),
+                (a.force.to_bits(), a.stribeck_level.to_bits()),
+                (b.force.to_bits(), b.stribeck_level.to_bits()),
+                "{i}"
+            );
+            // the levels it reports are the model's, wherever it is
+            assert_eq!((a.forward, a.backward), (b.forward, b.backward), "{i}");
+            assert_eq!(
+                (b.forward, b.backward),
+                m.levels_by_direction(&c, 0.0),
                 "{i}"
             );
             assert_eq!(stepped.z.to_bits(), at_levels.z.to_bits(), "{i}");
@@ -809,11 +840,10 @@ mod tests {
                 "{i}"
             );
         }
-        assert_eq!(levels.by_direction(), m.levels_by_direction(&REF, 0.0));
     }
 
     #[test]
-    fn the_step_reports_the_stribeck_level_it_used() {
+    fn the_step_reports_the_stribeck_level_and_the_levels_it_used() {
         // what an inverse model reads instead of evaluating the levels again: the same force
         // as step_split and, bit for bit, g(v) at the mean velocity's direction and the
         // dwell time after the step, with direction-dependent and dwell-dependent levels
@@ -837,11 +867,18 @@ mod tests {
             let v_mean = 0.004 * (6.0 * t).sin().powi(3);
             let v_now = 0.004 * (6.0 * (t + 1e-3)).sin().powi(3);
             let f = m.step_split(&mut a, v_mean, v_now, &REF, 1e-3);
-            let (f2, g) = m.step_split_with_curve(&mut b, v_mean, v_now, &REF, 1e-3, None);
-            assert_eq!(f.to_bits(), f2.to_bits(), "step {i}");
+            let step = m.step_split_with_curve(&mut b, v_mean, v_now, &REF, 1e-3, None);
+            assert_eq!(f.to_bits(), step.force.to_bits(), "step {i}");
             assert_eq!(a, b);
             let expected = m.stribeck_curve(v_mean, &m.levels(v_mean, &REF, b.dwell_time));
-            assert_eq!(g.to_bits(), expected.to_bits(), "step {i}");
+            assert_eq!(
+                step.stribeck_level.to_bits(),
+                expected.to_bits(),
+                "step {i}"
+            );
+            // and the levels of both directions at the dwell time after the step
+            let levels = m.levels_by_direction(&REF, b.dwell_time);
+            assert_eq!((step.forward, step.backward), levels, "step {i}");
             longest_rest = longest_rest.max(b.dwell_time);
         }
         // the clock ran through the slow reversals (|v| under the stick velocity for 0.17 s),

@@ -596,7 +596,7 @@ fn linearise<'p>(
         .collect();
     // samples `rows` of every built column, into `out` (one slice per built column)
     let fill = |rows: std::ops::Range<usize>, out: &mut [&mut [f64]]| {
-        for (k, i) in rows.enumerate() {
+        for (at, i) in rows.enumerate() {
             let v = p.v_step[i];
             let d = if v >= 0.0 { 1.0 } else { -1.0 };
             let s = sim.bristle[i];
@@ -650,7 +650,7 @@ fn linearise<'p>(
             // Fs = Fc + hump moves with both
             let scale_per_fs = -(load_scale - 1.0) / fs;
             for (o, &prm) in out.iter_mut().zip(&built) {
-                o[k] = match prm {
+                o[at] = match prm {
                     // filtered with the record (`cached`): never built here
                     Param::Mass => p.a[i],
                     Param::Coulomb => {

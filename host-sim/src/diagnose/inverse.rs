@@ -598,7 +598,7 @@ impl AxisModel {
         for (k, i) in r.enumerate() {
             let v = p.v_step[i];
             let decay = stribeck_decay.map(|d| d[i]);
-            let (mut f, g) = match &constant {
+            let step = match &constant {
                 Some(l) => self
                     .friction
                     .step_split_at_constant_levels(&mut st, v, p.v[i], p.dt, decay, l),
@@ -611,22 +611,16 @@ impl AxisModel {
                     decay,
                 ),
             };
+            let mut f = step.force;
             if holds && p.inside_rest[i] {
                 // at rest the contact carries what the actuator applies, up to its
-                // static level in that direction
-                let levels = constant.map_or_else(
-                    || {
-                        self.friction
-                            .levels_by_direction(&p.conditions(i, &reference), st.dwell_time)
-                    },
-                    |l| l.by_direction(),
-                );
-                let z = self.holding_deflection(p, i, levels);
+                // static level in that direction (the levels the step used)
+                let z = self.holding_deflection(p, i, (step.forward, step.backward));
                 f += sigma0 * (z - st.z);
                 st.z = z;
             }
             fr[k] = f;
-            br[k] = (sigma0 * st.z / g).clamp(-1.0, 1.0);
+            br[k] = (sigma0 * st.z / step.stribeck_level).clamp(-1.0, 1.0);
             dw[k] = st.dwell_time;
             dr[k] = st.deflection_rate;
         }

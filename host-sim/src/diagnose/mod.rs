@@ -687,19 +687,18 @@ fn search_in(
     // offset 1009's 480 refits were such repeats).
     let fitted: Mutex<Vec<(u64, Fit)>> = Mutex::new(Vec::new());
     let eval_centre = |lx: f64| {
-        let key = lx.to_bits();
-        let known = |fits: &Vec<(u64, Fit)>| {
-            let hit = fits.iter().find(|(k, _)| *k == key);
+        let known = fitted.lock().ok().and_then(|fits| {
+            let hit = fits.iter().find(|(x, _)| *x == lx.to_bits());
             hit.map(|(_, f)| f.clone())
-        };
-        if let Some(f) = fitted.lock().ok().and_then(|fits| known(&fits)) {
-            return (f.rss, f);
-        }
-        let r = eval(&centre, lx);
-        if let Ok(mut fits) = fitted.lock() {
-            fits.push((key, r.1.clone()));
-        }
-        r
+        });
+        let f = known.unwrap_or_else(|| {
+            let (_, f) = eval(&centre, lx);
+            if let Ok(mut fits) = fitted.lock() {
+                fits.push((lx.to_bits(), f.clone()));
+            }
+            f
+        });
+        (f.rss, f)
     };
     let (_, f2, _) = fit::grid_min(&fine, eval_centre);
     if f2.rss < best.rss {
