@@ -10,8 +10,10 @@
 //! (and the effect-free ones); `--seeds EFFECT:SEED,...` runs exactly those records (`none`
 //! for effect-free). `--unweighted` scores every moving sample alike (`Options::unweighted`,
 //! the rule until session 23); `--leave-out-unresolved FLOOR` runs the experiment of
-//! `Options::leave_out_unresolved`. `--write DIR [--seed N]` writes one record per
-//! effect to try.
+//! `Options::leave_out_unresolved`. `--encoder-um R` and `--noise-x K` measure every record
+//! through other sensors (encoder resolution R um instead of 1; force and pressure noise K
+//! times the default), the same axes and schedules otherwise (`Sensors`). `--write DIR
+//! [--seed N]` writes one record per effect to try.
 //!
 //! Per effect: the first significant candidate is the hidden effect (right), and with the
 //! hidden effect added the error is within 1.2x the noise floor (the generator's true model
@@ -22,7 +24,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record, EFFECTS};
+use generators::axis::{random_record_with, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -94,7 +96,7 @@ fn main() {
             .and_then(|s| s.parse().ok())
             .unwrap_or(1000);
         for e in std::iter::once(None).chain(EFFECTS.map(Some)) {
-            let (text, axis) = random_record(e, seed);
+            let (text, axis) = random_record_with(e, seed, sensors());
             let path = Path::new(dir).join(format!("{}.csv", e.unwrap_or("none")));
             std::fs::write(&path, text).expect("write");
             println!("{}: {axis:?}", path.display());
@@ -331,8 +333,31 @@ fn leave_out_unresolved() -> Option<f64> {
     )
 }
 
+/// `--encoder-um R` and `--noise-x K`: the records' sensors (the default without them).
+fn sensors() -> Sensors {
+    let args: Vec<String> = std::env::args().collect();
+    let value = |flag: &str| {
+        let i = args.iter().position(|a| a == flag)?;
+        Some(
+            args.get(i + 1)
+                .and_then(|s| s.parse::<f64>().ok())
+                .filter(|v| v.is_finite() && *v > 0.0)
+                .unwrap_or_else(|| panic!("{flag} takes a positive number")),
+        )
+    };
+    let mut s = Sensors::default();
+    if let Some(um) = value("--encoder-um") {
+        s.encoder_m = um * 1e-6;
+    }
+    if let Some(k) = value("--noise-x") {
+        s.force_noise *= k;
+        s.pressure_noise_pa *= k;
+    }
+    s
+}
+
 fn run(effect: Option<&'static str>, seed: u64) -> Row {
-    let (text, axis) = random_record(effect, seed);
+    let (text, axis) = random_record_with(effect, seed, sensors());
     let hidden = effect.unwrap_or("none").to_string();
     let mut row = Row {
         hidden: hidden.clone(),

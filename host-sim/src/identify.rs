@@ -272,6 +272,8 @@ pub fn dynamic_from_record(rec: &Record, mass: f64, name: &str) -> Result<IdentD
     let protocol = Protocol {
         position_cutoff_hz: 100.0,
         parallel_cutoff_hz: 100.0,
+        // identification compares positions at the counts' edges instead
+        reference_count_m: None,
     };
     let uniform = crate::timing::uniform(rec, name)?;
     let longest = uniform

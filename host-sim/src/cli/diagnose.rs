@@ -145,7 +145,7 @@ pub fn run(a: &Args) -> Result<()> {
                 d.model(),
                 &other,
                 &v.display().to_string(),
-                opts.protocol,
+                d.protocol,
             )?)
         }
         None => None,

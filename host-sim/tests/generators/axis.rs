@@ -25,7 +25,8 @@
 //! Base parameters are drawn over wide ranges (soft and stiff contacts, light and heavy masses,
 //! damped and undamped bristles); the excitation is a random schedule of moves (1..120 mm/s)
 //! and sinusoids with reversals, each at most [`MAX_BURST_S`] long and followed by a dwell
-//! (0.05..3 s). The encoder has 1 um resolution.
+//! (0.05..3 s). The encoder has 1 um resolution, the force and pressure noise is given above
+//! ([`Sensors`]: a suite can coarsen or refine them, [`random_record_with`]).
 
 use super::Rng;
 
@@ -180,6 +181,32 @@ pub struct Axis {
     /// The dwell clock of the record this axis made, per sample [s] ([`random_record`] keeps
     /// it): the truth along a measured motion reads its junctions' age here.
     pub dwell_trace: Option<DwellTrace>,
+    /// What the record's sensors resolve.
+    pub sensors: Sensors,
+}
+
+/// The sensors of a record: every suite so far ran with the default (1 um encoder, force
+/// noise 0.2 % of full scale, pressure noise 0.05 bar); [`random_record_with`] changes them
+/// without changing anything else the seed draws (axis, schedule, noise sequence), so a
+/// record's variants differ only in what the sensors resolve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sensors {
+    /// Encoder resolution [m].
+    pub encoder_m: f64,
+    /// Force sensor noise (ideal force actuator), rms, as a fraction of full scale.
+    pub force_noise: f64,
+    /// Pressure transducer noise (hydraulic axis), rms [Pa].
+    pub pressure_noise_pa: f64,
+}
+
+impl Default for Sensors {
+    fn default() -> Self {
+        Self {
+            encoder_m: 1e-6,
+            force_noise: 0.002,
+            pressure_noise_pa: 5e3,
+        }
+    }
 }
 
 /// The true dwell clock of a record, one value per sample [s]. The truth along the measured
@@ -335,6 +362,7 @@ impl Axis {
             area_ratio: rng.range(0.5, 0.9),
             duration_s: 60.0,
             dwell_trace: None,
+            sensors: Sensors::default(),
         }
     }
 
@@ -768,12 +796,14 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64, Vec<f64>) {
     for i in 0..n {
         let t = i as f64 * DT;
         // sample the sensors
-        let xq = (x / 1e-6).round() * 1e-6;
-        let (pa_m, pb_m) = (pa + 5e3 * rng.normal(), pb + 5e3 * rng.normal());
+        let enc = axis.sensors.encoder_m;
+        let xq = (x / enc).round() * enc;
+        let p_noise = axis.sensors.pressure_noise_pa;
+        let (pa_m, pb_m) = (pa + p_noise * rng.normal(), pb + p_noise * rng.normal());
         let f_meas = if hyd {
             aa * pa_m - ab * pb_m
         } else {
-            force_cmd + 0.002 * full_scale * rng.normal()
+            force_cmd + axis.sensors.force_noise * full_scale * rng.normal()
         };
         let temp = axis.temperature_at(t);
         let mut line = format!("{t:.3},{xq:.7},{f_meas:.4},{:.7}", xr[i]);
@@ -877,10 +907,24 @@ pub const MIN_VISIBILITY: f64 = 0.03;
 /// A record (CSV text) and its axis for `effect` (None: effect-free), seeded. An effect whose
 /// visibility is below [`MIN_VISIBILITY`] is drawn again (new axis, new excitation).
 pub fn random_record(effect: Option<&'static str>, seed: u64) -> (String, Axis) {
+    random_record_with(effect, seed, Sensors::default())
+}
+
+/// [`random_record`] with other sensors: the same axis, schedule and noise sequence, measured
+/// through `sensors` (the effect's visibility, and so the redraws, is judged on what they
+/// measure).
+pub fn random_record_with(
+    effect: Option<&'static str>,
+    seed: u64,
+    sensors: Sensors,
+) -> (String, Axis) {
     let mut last = None;
     for attempt in 0..20u64 {
         let s = seed.wrapping_add(attempt.wrapping_mul(1_000_003));
-        let mut axis = Axis::random(effect, s);
+        let mut axis = Axis {
+            sensors,
+            ..Axis::random(effect, s)
+        };
         let (text, vis, trace) = record_traced(&axis, s.wrapping_mul(7919).wrapping_add(3));
         axis.dwell_trace = Some(DwellTrace(std::sync::Arc::new(trace)));
         if effect.is_none() || vis >= MIN_VISIBILITY {
