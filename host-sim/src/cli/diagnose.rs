@@ -89,6 +89,11 @@ pub struct JsonOut<'a> {
     pub regimes: &'a diagnose::regimes::RegimeReport,
     /// Departures from rest: breakaway peaks, holding forces, the dwell trend.
     pub breakaway: &'a diagnose::breakaway::Breakaway,
+    /// The position filter the record was read through \[Hz\] (`diagnose::prepare`).
+    pub position_cutoff_hz: f64,
+    /// What the preparation says of the record (timing repaired, the filter a coarse count
+    /// chose).
+    pub notes: &'a [String],
 }
 
 /// Runs the subcommand.
@@ -179,6 +184,8 @@ pub fn run(a: &Args) -> Result<()> {
             motion_spread_pct: d.motion_spread_pct,
             regimes: &last.regimes,
             breakaway: &d.breakaway,
+            position_cutoff_hz: d.protocol.position_cutoff_hz,
+            notes: &d.prepared.notes,
         };
         super::write_json(path, &out)?;
     }

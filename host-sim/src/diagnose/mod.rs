@@ -1844,24 +1844,12 @@ pub fn prepare(
     };
     let (at_protocol, at_low) = rayon::join(|| first(&p), || first(&q));
     // the force is filtered alike in both (the parallel filter); the scored samples are not
-    let both: Vec<bool> = p
-        .weight
-        .iter()
-        .zip(&q.weight)
-        .map(|(a, b)| *a > 0.0 && *b > 0.0)
-        .collect();
+    let both = |i: &usize| p.weight[*i] > 0.0 && q.weight[*i] > 0.0;
     let err_pct = |f: &Fit| {
-        let (mut e, mut f2) = (0.0, 0.0);
-        for ((force, pred), _) in p
-            .force
-            .iter()
-            .zip(&f.prediction)
-            .zip(&both)
-            .filter(|x| *x.1)
-        {
-            e += (force - pred) * (force - pred);
-            f2 += force * force;
-        }
+        let (e, f2) = (0..p.len()).filter(both).fold((0.0, 0.0), |(e, f2), i| {
+            let r = p.force[i] - f.prediction[i];
+            (e + r * r, f2 + p.force[i] * p.force[i])
+        });
         100.0 * (e / f2.max(f64::MIN_POSITIVE)).sqrt()
     };
     let (e_protocol, e_low) = (err_pct(&at_protocol), err_pct(&at_low));

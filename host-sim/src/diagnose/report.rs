@@ -487,6 +487,9 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         end,
         d.noise_floor_pct.map_or(String::new(), |n| format!(" (noise floor {n:.2} %)"))
     );
+    for n in &d.prepared.notes {
+        out += &format!("<p>Note: {}.</p>", escape(n));
+    }
     for w in d.stages.windows(2) {
         let effect = w[1].effect.map_or("", |k| k.name());
         let meaning = w[1].effect.map_or("", |k| super::effect_info(k).meaning);
