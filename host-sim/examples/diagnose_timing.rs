@@ -7,13 +7,15 @@
 //! `cargo run --release -p host-sim --example diagnose_timing -- [SEED ...] [--json F]`
 //! (default seeds 1000..1004: 45 records, the ones `axis_suite 0 0 --write DIR --seed N` writes).
 //! Prints each record's wall time, then the median, the maximum and how many took over 5 s;
-//! `--json F` writes the same. Generating a record is not timed. The machine is noisy: compare
-//! two builds by running them one after another on the same records, not against a number.
+//! `--json F` writes the same; `--encoder-um R` reads every record's position through an R um
+//! count (`Sensors`: a coarse count makes the diagnosis fit a second first baseline,
+//! `diagnose::prepare`). Generating a record is not timed. The machine is noisy: compare two
+//! builds by running them one after another on the same records, not against a number.
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record, EFFECTS};
+use generators::axis::{random_record_with, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use std::path::Path;
@@ -51,10 +53,22 @@ fn main() {
         .iter()
         .position(|a| a == "--json")
         .and_then(|i| args.get(i + 1).cloned());
+    let mut sensors = Sensors::default();
+    if let Some(um) = args
+        .iter()
+        .position(|a| a == "--encoder-um")
+        .and_then(|i| args.get(i + 1))
+    {
+        let um: f64 = um
+            .parse()
+            .expect("--encoder-um takes a number of micrometres");
+        sensors.encoder_m = um * 1e-6;
+    }
+    let takes_value = |flag: &str| flag == "--json" || flag == "--encoder-um";
     let mut seeds: Vec<u64> = args
         .iter()
         .enumerate()
-        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--json"))
+        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || !takes_value(&args[i - 1])))
         .map(|(_, a)| a.parse().expect("a seed is a whole number"))
         .collect();
     if seeds.is_empty() {
@@ -68,7 +82,7 @@ fn main() {
     for &seed in &seeds {
         for effect in std::iter::once(None).chain(EFFECTS.map(Some)) {
             let name = effect.unwrap_or("none");
-            let (text, _) = random_record(effect, seed);
+            let (text, _) = random_record_with(effect, seed, sensors);
             let path = format!("{name}-{seed}.csv");
             let start = Instant::now();
             let rec = Record::parse(&text, Path::new(&path)).expect("a generated record parses");
