@@ -75,6 +75,7 @@ struct Row {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
+    let sensors = Sensors::from_args(&args);
     let num = |i: usize, d: u64| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let per_effect = num(1, 10);
     let free = num(2, 50);
@@ -96,7 +97,7 @@ fn main() {
             .and_then(|s| s.parse().ok())
             .unwrap_or(1000);
         for e in std::iter::once(None).chain(EFFECTS.map(Some)) {
-            let (text, axis) = random_record_with(e, seed, sensors());
+            let (text, axis) = random_record_with(e, seed, sensors);
             let path = Path::new(dir).join(format!("{}.csv", e.unwrap_or("none")));
             std::fs::write(&path, text).expect("write");
             println!("{}: {axis:?}", path.display());
@@ -145,7 +146,7 @@ fn main() {
     let rows: Vec<Row> = jobs
         .par_iter()
         .map(|&(effect, seed)| {
-            let row = run(effect, seed);
+            let row = run(effect, seed, sensors);
             bar.inc(1);
             row
         })
@@ -333,31 +334,8 @@ fn leave_out_unresolved() -> Option<f64> {
     )
 }
 
-/// `--encoder-um R` and `--noise-x K`: the records' sensors (the default without them).
-fn sensors() -> Sensors {
-    let args: Vec<String> = std::env::args().collect();
-    let value = |flag: &str| {
-        let i = args.iter().position(|a| a == flag)?;
-        Some(
-            args.get(i + 1)
-                .and_then(|s| s.parse::<f64>().ok())
-                .filter(|v| v.is_finite() && *v > 0.0)
-                .unwrap_or_else(|| panic!("{flag} takes a positive number")),
-        )
-    };
-    let mut s = Sensors::default();
-    if let Some(um) = value("--encoder-um") {
-        s.encoder_m = um * 1e-6;
-    }
-    if let Some(k) = value("--noise-x") {
-        s.force_noise *= k;
-        s.pressure_noise_pa *= k;
-    }
-    s
-}
-
-fn run(effect: Option<&'static str>, seed: u64) -> Row {
-    let (text, axis) = random_record_with(effect, seed, sensors());
+fn run(effect: Option<&'static str>, seed: u64, sensors: Sensors) -> Row {
+    let (text, axis) = random_record_with(effect, seed, sensors);
     let hidden = effect.unwrap_or("none").to_string();
     let mut row = Row {
         hidden: hidden.clone(),

@@ -7,9 +7,9 @@
 //! `cargo run --release -p host-sim --example diagnose_timing -- [SEED ...] [--json F]`
 //! (default seeds 1000..1004: 45 records, the ones `axis_suite 0 0 --write DIR --seed N` writes).
 //! Prints each record's wall time, then the median, the maximum and how many took over 5 s;
-//! `--json F` writes the same; `--encoder-um R` reads every record's position through an R um
-//! count (`Sensors`: a coarse count makes the diagnosis fit a second first baseline,
-//! `diagnose::prepare`). Generating a record is not timed. The machine is noisy: compare two
+//! `--json F` writes the same; `--encoder-um R` and `--noise-x K` measure every record through
+//! other sensors (`Sensors::from_args`; a coarse count makes the diagnosis fit a second first
+//! baseline, `diagnose::prepare`). Generating a record is not timed. The machine is noisy: compare two
 //! builds by running them one after another on the same records, not against a number.
 
 #[path = "../tests/generators/mod.rs"]
@@ -53,18 +53,8 @@ fn main() {
         .iter()
         .position(|a| a == "--json")
         .and_then(|i| args.get(i + 1).cloned());
-    let mut sensors = Sensors::default();
-    if let Some(um) = args
-        .iter()
-        .position(|a| a == "--encoder-um")
-        .and_then(|i| args.get(i + 1))
-    {
-        let um: f64 = um
-            .parse()
-            .expect("--encoder-um takes a number of micrometres");
-        sensors.encoder_m = um * 1e-6;
-    }
-    let takes_value = |flag: &str| flag == "--json" || flag == "--encoder-um";
+    let sensors = Sensors::from_args(&args);
+    let takes_value = |flag: &str| flag == "--json" || Sensors::FLAGS.contains(&flag);
     let mut seeds: Vec<u64> = args
         .iter()
         .enumerate()

@@ -116,6 +116,9 @@ pub struct Prepared {
     /// Inside a rest of the reading ([`reading_inside_rest`]): there a model's bristle carries
     /// the measured force ([`AxisModel::simulate`]).
     pub inside_rest: Vec<bool>,
+    /// The position reading's count ([`crate::signal::encoder_resolution`]; 0: not
+    /// quantised) \[m\].
+    pub count_m: f64,
 }
 
 /// Norm of a force column over the scored samples (`sqrt(sum w f^2)`) \[N\].
@@ -348,6 +351,7 @@ impl Prepared {
             max_abs_velocity,
             top_speed,
             inside_rest,
+            count_m: count,
         })
     }
 

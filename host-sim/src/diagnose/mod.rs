@@ -1822,7 +1822,7 @@ pub fn prepare(
         ..opts.protocol
     };
     let mut p = Prepared::new(rec, name, protocol)?;
-    let count = crate::signal::encoder_resolution(&rec.x);
+    let count = p.count_m;
     let low_hz = inverse::position_cutoff_for_count(&opts.protocol, count);
     if low_hz >= protocol.position_cutoff_hz {
         return Ok((p, protocol, None));

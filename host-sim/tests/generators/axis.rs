@@ -199,6 +199,37 @@ pub struct Sensors {
     pub pressure_noise_pa: f64,
 }
 
+impl Sensors {
+    /// The sensors a benchmark's command line asks for: `--encoder-um R` (an R um count) and
+    /// `--noise-x K` (force and pressure noise K times the default); the default without them.
+    /// A flag without a positive number after it is a panic that names it.
+    #[allow(dead_code)]
+    pub fn from_args(args: &[String]) -> Self {
+        let value = |flag: &str| {
+            let i = args.iter().position(|a| a == flag)?;
+            Some(
+                args.get(i + 1)
+                    .and_then(|s| s.parse::<f64>().ok())
+                    .filter(|v| v.is_finite() && *v > 0.0)
+                    .unwrap_or_else(|| panic!("{flag} takes a positive number")),
+            )
+        };
+        let mut s = Self::default();
+        if let Some(um) = value("--encoder-um") {
+            s.encoder_m = um * 1e-6;
+        }
+        if let Some(k) = value("--noise-x") {
+            s.force_noise *= k;
+            s.pressure_noise_pa *= k;
+        }
+        s
+    }
+
+    /// The flags [`Self::from_args`] reads, each followed by its value.
+    #[allow(dead_code)]
+    pub const FLAGS: [&'static str; 2] = ["--encoder-um", "--noise-x"];
+}
+
 impl Default for Sensors {
     fn default() -> Self {
         Self {
