@@ -10,9 +10,10 @@
 //! (and the effect-free ones); `--seeds EFFECT:SEED,...` runs exactly those records (`none`
 //! for effect-free). `--unweighted` scores every moving sample alike (`Options::unweighted`,
 //! the rule until session 23); `--leave-out-unresolved FLOOR` runs the experiment of
-//! `Options::leave_out_unresolved`. `--encoder-um R` and `--noise-x K` measure every record
-//! through other sensors (encoder resolution R um instead of 1; force and pressure noise K
-//! times the default), the same axes and schedules otherwise (`Sensors`). `--write DIR
+//! `Options::leave_out_unresolved`. `--encoder-um R`, `--noise-x K` and `--log-hz F` measure
+//! every record through other sensors (encoder resolution R um instead of 1; force and
+//! pressure noise K times the default; a logger keeping every (1000/F)-th sample of the 1 kHz
+//! loop), the same axes and schedules otherwise (`Sensors`). `--write DIR
 //! [--seed N]` writes one record per effect to try.
 //!
 //! Per effect: the first significant candidate is the hidden effect (right), and with the

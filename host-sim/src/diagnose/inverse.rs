@@ -2,7 +2,8 @@
 //! measured motion.
 //!
 //! Protocol (the EMPS benchmark's IDIM pipeline): the position is low-passed with a zero-phase
-//! 4th-order Butterworth at 100 Hz; velocity and acceleration are central differences of it;
+//! 4th-order Butterworth at 100 Hz (at most [`MAX_POSITION_CUTOFF_SHARE_OF_RATE`] of the
+//! sample rate); velocity and acceleration are central differences of it;
 //! then every column (measured force, and every model force or regressor) goes through the
 //! same zero-phase "parallel" low-pass (20 Hz), so that measurement and model are compared in
 //! the same band. The relative force error is `100 ||F - F_hat|| / ||F||` on those columns.
@@ -42,6 +43,16 @@ impl Default for Protocol {
 /// `axis_suite --encoder-um 5`), the baseline's error was 2.0 % at 100 Hz, 1.35 % at 50 Hz,
 /// 2.3 % at 35 Hz and 3.2 % at 30 Hz.
 pub const MIN_POSITION_CUTOFF_SHARE: f64 = 0.5;
+
+/// The highest position cutoff a record's sample rate allows, as a fraction of the rate:
+/// a slow logger's record is filtered at most at this share of its rate, however high the
+/// protocol's cutoff. (It was 0.2, a constant of the first diagnosis, until session 32: at
+/// 250 Hz it filtered the position at 50 Hz, and on the held-out records of
+/// `axis_suite --log-hz 250` the fast and hydraulic axes lost their motion: the generator's
+/// true model erred 5.6 % (median, hydraulic) where it erred 1.7 % at 500 Hz, and the effect
+/// was named on 29 of 40 records.) The zero-phase Butterworth is realisable up to 0.45 of the
+/// rate ([`LowPass::butterworth4`]).
+pub const MAX_POSITION_CUTOFF_SHARE_OF_RATE: f64 = 0.4;
 
 /// The position cutoff for a reading quantised to `count` \[m\] (0: not quantised) \[Hz\].
 /// Differentiated through a cutoff `fc`, a count's quantisation noise (white, `q^2 / 12`)
@@ -248,7 +259,12 @@ impl Prepared {
         let dt = uniform.period_s;
         let segments = uniform.segments.clone();
         let fs = 1.0 / dt;
-        let pos = LowPass::butterworth4(protocol.position_cutoff_hz.min(0.2 * fs), fs);
+        let pos = LowPass::butterworth4(
+            protocol
+                .position_cutoff_hz
+                .min(MAX_POSITION_CUTOFF_SHARE_OF_RATE * fs),
+            fs,
+        );
         let parallel_hz = protocol.parallel_cutoff_hz.min(0.1 * fs);
         let parallel = LowPass::butterworth4(parallel_hz, fs);
         let by_segment = |f: &LowPass, x: &[f64]| -> Vec<f64> {

@@ -1609,6 +1609,14 @@ fn nonlinear_value(m: &AxisModel, effect: EffectKind) -> Option<f64> {
 /// spread of a model's prediction.
 pub const RESOLVE_BANDWIDTHS: [f64; 4] = [0.4, 0.6, 1.6, 2.5];
 
+/// The highest cutoff a motion-reading probe above the record's own reads, as a fraction of
+/// the sample rate, unless the record's own cutoff is higher: the motion weights were
+/// calibrated with the 2.5x probe of a 1 kHz record at 200 Hz, and read at 250 Hz (session 32)
+/// the default calibration suite named one effect fewer (72 of 80). A slow logger's record,
+/// filtered up to [`inverse::MAX_POSITION_CUTOFF_SHARE_OF_RATE`] of its rate, reads its probes
+/// up to its own cutoff.
+pub const MAX_PROBE_CUTOFF_SHARE_OF_RATE: f64 = 0.2;
+
 /// Samples whose predicted force the measured motion does not resolve. The same model is
 /// driven by the same reading filtered at other bandwidths ([`RESOLVE_BANDWIDTHS`]). A sample
 /// is unresolved where the mean square of those predictions less the model's own, averaged
@@ -1678,9 +1686,14 @@ pub fn prediction_spread(
     let n = p.len();
     let own = p.filter(&model.predict(p));
     let mut spread = vec![0.0; n];
+    let fs = 1.0 / p.dt;
+    let own_hz = protocol
+        .position_cutoff_hz
+        .min(inverse::MAX_POSITION_CUTOFF_SHARE_OF_RATE * fs);
+    let ceiling = own_hz.max(MAX_PROBE_CUTOFF_SHARE_OF_RATE * fs);
     for r in RESOLVE_BANDWIDTHS {
         let alt = Protocol {
-            position_cutoff_hz: r * protocol.position_cutoff_hz,
+            position_cutoff_hz: (r * protocol.position_cutoff_hz).min(ceiling),
             ..protocol
         };
         let Ok(pa) = Prepared::new(rec, name, alt) else {

@@ -197,12 +197,17 @@ pub struct Sensors {
     pub force_noise: f64,
     /// Pressure transducer noise (hydraulic axis), rms [Pa].
     pub pressure_noise_pa: f64,
+    /// The logger keeps every `log_every`-th sample of the 1 kHz loop (2: a 500 Hz record),
+    /// without an anti-alias filter, as a loop's logger samples its variables.
+    pub log_every: usize,
 }
 
 impl Sensors {
     /// The sensors a benchmark's command line asks for: `--encoder-um R` (an R um count) and
-    /// `--noise-x K` (force and pressure noise K times the default); the default without them.
-    /// A flag without a positive number after it is a panic that names it.
+    /// `--noise-x K` (force and pressure noise K times the default) and `--log-hz F` (a
+    /// logger at F Hz, which must divide the loop's 1 kHz); the default without them. A flag
+    /// without a positive number after it, or a rate that does not divide 1 kHz, is a panic
+    /// that names it.
     #[allow(dead_code)]
     pub fn from_args(args: &[String]) -> Self {
         let value = |flag: &str| {
@@ -222,12 +227,20 @@ impl Sensors {
             s.force_noise *= k;
             s.pressure_noise_pa *= k;
         }
+        if let Some(hz) = value("--log-hz") {
+            let every = (1.0 / (hz * DT)).round();
+            assert!(
+                every >= 1.0 && (every * hz * DT - 1.0).abs() < 1e-9,
+                "--log-hz {hz}: the logger must keep every n-th sample of the 1 kHz loop"
+            );
+            s.log_every = every as usize;
+        }
         s
     }
 
     /// The flags [`Self::from_args`] reads, each followed by its value.
     #[allow(dead_code)]
-    pub const FLAGS: [&'static str; 2] = ["--encoder-um", "--noise-x"];
+    pub const FLAGS: [&'static str; 3] = ["--encoder-um", "--noise-x", "--log-hz"];
 }
 
 impl Default for Sensors {
@@ -236,6 +249,7 @@ impl Default for Sensors {
             encoder_m: 1e-6,
             force_noise: 0.002,
             pressure_noise_pa: 5e3,
+            log_every: 1,
         }
     }
 }
@@ -847,9 +861,13 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64, Vec<f64>) {
         if dbg {
             line.push_str(&format!(",{effect_force:.2},{dwell:.3}"));
         }
-        trace.push(dwell);
         line.push('\n');
-        out.push_str(&line);
+        // the noise is drawn at every loop sample whatever the logger keeps, so a record's
+        // variants share their noise sequence
+        if i % axis.sensors.log_every.max(1) == 0 {
+            trace.push(dwell);
+            out.push_str(&line);
+        }
         if v.abs() >= 2e-4 {
             seen.push([v.signum(), v, effect_force, f_meas]);
         }
