@@ -410,6 +410,7 @@ fn a_slow_logger_keeps_the_motion_bandwidth() {
         let (text, axis) = random_record_with(None, 500, sensors);
         let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
         let p = Prepared::new(&rec, "axis.csv", Protocol::default()).unwrap();
+        assert_eq!(p.position_cutoff_hz, 100.0);
         (truth_error_pct(&axis, &p), p.dt)
     };
     let (fast, dt_fast) = floor(Sensors::default());

@@ -89,7 +89,8 @@ pub struct JsonOut<'a> {
     pub regimes: &'a diagnose::regimes::RegimeReport,
     /// Departures from rest: breakaway peaks, holding forces, the dwell trend.
     pub breakaway: &'a diagnose::breakaway::Breakaway,
-    /// The position filter the record was read through \[Hz\] (`diagnose::prepare`).
+    /// The position filter the record was read through \[Hz\] (`diagnose::prepare`; a slow
+    /// logger's record at most 0.4 of its rate, `inverse::MAX_POSITION_CUTOFF_SHARE_OF_RATE`).
     pub position_cutoff_hz: f64,
     /// What the preparation says of the record (timing repaired, the filter a coarse count
     /// chose).
@@ -184,7 +185,7 @@ pub fn run(a: &Args) -> Result<()> {
             motion_spread_pct: d.motion_spread_pct,
             regimes: &last.regimes,
             breakaway: &d.breakaway,
-            position_cutoff_hz: d.protocol.position_cutoff_hz,
+            position_cutoff_hz: d.prepared.position_cutoff_hz,
             notes: &d.prepared.notes,
         };
         super::write_json(path, &out)?;

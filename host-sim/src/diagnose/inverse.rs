@@ -130,6 +130,9 @@ pub struct Prepared {
     /// The position reading's count ([`crate::signal::encoder_resolution`]; 0: not
     /// quantised) \[m\].
     pub count_m: f64,
+    /// The cutoff the position was filtered at \[Hz\]: the protocol's, at most
+    /// [`MAX_POSITION_CUTOFF_SHARE_OF_RATE`] of the sample rate.
+    pub position_cutoff_hz: f64,
 }
 
 /// Norm of a force column over the scored samples (`sqrt(sum w f^2)`) \[N\].
@@ -259,12 +262,10 @@ impl Prepared {
         let dt = uniform.period_s;
         let segments = uniform.segments.clone();
         let fs = 1.0 / dt;
-        let pos = LowPass::butterworth4(
-            protocol
-                .position_cutoff_hz
-                .min(MAX_POSITION_CUTOFF_SHARE_OF_RATE * fs),
-            fs,
-        );
+        let position_cutoff_hz = protocol
+            .position_cutoff_hz
+            .min(MAX_POSITION_CUTOFF_SHARE_OF_RATE * fs);
+        let pos = LowPass::butterworth4(position_cutoff_hz, fs);
         let parallel_hz = protocol.parallel_cutoff_hz.min(0.1 * fs);
         let parallel = LowPass::butterworth4(parallel_hz, fs);
         let by_segment = |f: &LowPass, x: &[f64]| -> Vec<f64> {
@@ -368,6 +369,7 @@ impl Prepared {
             top_speed,
             inside_rest,
             count_m: count,
+            position_cutoff_hz,
         })
     }
 

@@ -1686,11 +1686,9 @@ pub fn prediction_spread(
     let n = p.len();
     let own = p.filter(&model.predict(p));
     let mut spread = vec![0.0; n];
-    let fs = 1.0 / p.dt;
-    let own_hz = protocol
+    let ceiling = p
         .position_cutoff_hz
-        .min(inverse::MAX_POSITION_CUTOFF_SHARE_OF_RATE * fs);
-    let ceiling = own_hz.max(MAX_PROBE_CUTOFF_SHARE_OF_RATE * fs);
+        .max(MAX_PROBE_CUTOFF_SHARE_OF_RATE / p.dt);
     for r in RESOLVE_BANDWIDTHS {
         let alt = Protocol {
             position_cutoff_hz: (r * protocol.position_cutoff_hz).min(ceiling),
