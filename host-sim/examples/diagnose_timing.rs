@@ -7,10 +7,11 @@
 //! `cargo run --release -p host-sim --example diagnose_timing -- [SEED ...] [--json F]`
 //! (default seeds 1000..1004: 45 records, the ones `axis_suite 0 0 --write DIR --seed N` writes).
 //! Prints each record's wall time, then the median, the maximum and how many took over 5 s;
-//! `--json F` writes the same; `--encoder-um R`, `--noise-x K` and `--log-hz F` measure every record
-//! through other sensors (`Sensors::from_args`; a coarse count makes the diagnosis fit a second first
-//! baseline, `diagnose::prepare`). Generating a record is not timed. The machine is noisy: compare two
-//! builds by running them one after another on the same records, not against a number.
+//! `--json F` writes the same; `--encoder-um R`, `--noise-x K` and `--log-hz F` measure every
+//! record through other sensors (`Sensors::from_args`; a coarse count makes the diagnosis fit a
+//! second first baseline, `diagnose::prepare`). Generating a record is not timed. The machine
+//! is noisy: compare two builds by running them one after another on the same records, not
+//! against a number.
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;

@@ -851,22 +851,23 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64, Vec<f64>) {
             force_cmd + axis.sensors.force_noise * full_scale * rng.normal()
         };
         let temp = axis.temperature_at(t);
-        let mut line = format!("{t:.3},{xq:.7},{f_meas:.4},{:.7}", xr[i]);
-        if hyd {
-            line.push_str(&format!(",{pa_m:.1},{pb_m:.1}"));
-        }
-        if temp_col {
-            line.push_str(&format!(",{:.3}", temp + 0.05 * rng.normal()));
-        }
-        if dbg {
-            line.push_str(&format!(",{effect_force:.2},{dwell:.3}"));
-        }
-        line.push('\n');
         // the noise is drawn at every loop sample whatever the logger keeps, so a record's
-        // variants share their noise sequence
+        // variants share their noise sequence; only a kept sample is written
+        let temp_meas = temp_col.then(|| temp + 0.05 * rng.normal());
         if i % axis.sensors.log_every.max(1) == 0 {
-            trace.push(dwell);
+            let mut line = format!("{t:.3},{xq:.7},{f_meas:.4},{:.7}", xr[i]);
+            if hyd {
+                line.push_str(&format!(",{pa_m:.1},{pb_m:.1}"));
+            }
+            if let Some(tm) = temp_meas {
+                line.push_str(&format!(",{tm:.3}"));
+            }
+            if dbg {
+                line.push_str(&format!(",{effect_force:.2},{dwell:.3}"));
+            }
+            line.push('\n');
             out.push_str(&line);
+            trace.push(dwell);
         }
         if v.abs() >= 2e-4 {
             seen.push([v.signum(), v, effect_force, f_meas]);
