@@ -54,8 +54,12 @@ struct Row {
     /// error of the generator's true model with the hidden effect removed (its visibility) [%]
     without_effect_pct: f64,
     /// every candidate of the baseline, ranked: (effect, dBIC, error with it [%], detected,
-    /// the error cut the decision weighs, significant)
-    candidates: Vec<(String, f64, f64, bool, f64, bool)>,
+    /// the error cut the decision weighs, significant, the force it explains, rms [N])
+    candidates: Vec<(String, f64, f64, bool, f64, bool, f64)>,
+    /// the force reading's white noise, measured on the record (`Prepared::force_noise_n`) [N]
+    force_noise_n: f64,
+    /// what it leaves in the scored band (`Prepared::force_noise_in_band_n`) [N]
+    force_noise_in_band_n: f64,
     /// how far the first baseline's force moves with the position filter's bandwidth
     /// (`Diagnosis::motion_spread_pct`) [%]
     motion_spread_pct: f64,
@@ -356,6 +360,8 @@ fn run(effect: Option<&'static str>, seed: u64, sensors: Sensors) -> Row {
         dwell: None,
         without_effect_pct: f64::NAN,
         candidates: Vec::new(),
+        force_noise_n: f64::NAN,
+        force_noise_in_band_n: f64::NAN,
         motion_spread_pct: f64::NAN,
         scored_fraction: f64::NAN,
         departures: 0,
@@ -416,9 +422,12 @@ fn run(effect: Option<&'static str>, seed: u64, sensors: Sensors) -> Row {
                 c.detected,
                 c.error_cut,
                 c.significant,
+                c.explained_rms_n,
             )
         })
         .collect();
+    row.force_noise_n = p.force_noise_n;
+    row.force_noise_in_band_n = p.force_noise_in_band_n;
     row.dwell_caution = cands
         .iter()
         .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)

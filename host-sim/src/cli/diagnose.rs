@@ -85,6 +85,12 @@ pub struct JsonOut<'a> {
     /// How much the first baseline's force moves with the position filter's bandwidth [%]
     /// (`Diagnosis::motion_spread_pct`).
     pub motion_spread_pct: f64,
+    /// The force reading's white noise measured on the record, rms \[N\]
+    /// (`inverse::Prepared::force_noise_n`).
+    pub force_noise_n: f64,
+    /// What it leaves in the scored band, rms \[N\]: the scale of a candidate's
+    /// `explained_rms_n`.
+    pub force_noise_in_band_n: f64,
     /// Where the final model fails.
     pub regimes: &'a diagnose::regimes::RegimeReport,
     /// Departures from rest: breakaway peaks, holding forces, the dwell trend.
@@ -183,6 +189,8 @@ pub fn run(a: &Args) -> Result<()> {
                 .flat_map(|s| s.restarts.iter().map(|r| (s.label.as_str(), r)))
                 .collect(),
             motion_spread_pct: d.motion_spread_pct,
+            force_noise_n: d.prepared.force_noise_n,
+            force_noise_in_band_n: d.prepared.force_noise_in_band_n,
             regimes: &last.regimes,
             breakaway: &d.breakaway,
             position_cutoff_hz: d.prepared.position_cutoff_hz,
@@ -343,6 +351,10 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
     }
     print_breakaway(&d.breakaway);
     println!("motion reading: {}", d.motion_note());
+    println!(
+        "force reading: white noise {:.3} N rms, {:.3} N rms in the scored band",
+        d.prepared.force_noise_n, d.prepared.force_noise_in_band_n
+    );
     for (i, s) in d.stages.iter().enumerate() {
         let m = &s.fit.model;
         let p = &m.friction.params;
@@ -406,10 +418,11 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                             })
                             .collect();
                         println!(
-                            "   {:<24} {:>6.2} %  dBIC {:>8.1}  {}  {}",
+                            "   {:<24} {:>6.2} %  dBIC {:>8.1}  explains {:>7.3} N  {}  {}",
                             c.kind,
                             e,
                             b,
+                            c.explained_rms_n,
                             if c.significant {
                                 "SIGNIFICANT"
                             } else {

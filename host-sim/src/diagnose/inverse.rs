@@ -133,6 +133,13 @@ pub struct Prepared {
     /// The cutoff the position was filtered at \[Hz\]: the protocol's, at most
     /// [`MAX_POSITION_CUTOFF_SHARE_OF_RATE`] of the sample rate.
     pub position_cutoff_hz: f64,
+    /// The force reading's white noise, rms, measured on the record
+    /// ([`crate::signal::force_noise_fourth_difference`]) \[N\].
+    pub force_noise_n: f64,
+    /// What that noise leaves in the scored force, after the parallel filter, rms
+    /// ([`LowPass::noise_gain`]) \[N\]: the scale of the force a candidate effect explains
+    /// (`diagnose::Candidate::explained_rms_n`).
+    pub force_noise_in_band_n: f64,
 }
 
 /// Norm of a force column over the scored samples (`sqrt(sum w f^2)`) \[N\].
@@ -337,6 +344,8 @@ impl Prepared {
         let pressure_sum = pressure.map(|s: Vec<f64>| by_segment(&pos, &s));
         let temperature = rec.temp.as_ref().map(|t| by_segment(&pos, t));
         let max_abs_force = rec.force.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+        let force_noise_n = crate::signal::force_noise_fourth_difference(&rec.force);
+        let force_noise_in_band_n = force_noise_n * parallel.noise_gain();
         let max_abs_velocity = v.iter().fold(0.0f64, |m, s| m.max(s.abs()));
         let moving_speeds: Vec<f64> = v
             .iter()
@@ -370,6 +379,8 @@ impl Prepared {
             inside_rest,
             count_m: count,
             position_cutoff_hz,
+            force_noise_n,
+            force_noise_in_band_n,
         })
     }
 

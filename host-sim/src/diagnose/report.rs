@@ -526,6 +526,11 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         first.plain_rel_err_pct,
         last.plain_rel_err_pct
     );
+    out += &format!(
+        "<p>Force reading: white noise {:.3} N rms, {:.3} N rms in the scored band (the scale of the \
+         force each candidate explains).</p>",
+        d.prepared.force_noise_n, d.prepared.force_noise_in_band_n
+    );
     for s in &d.stages {
         for r in &s.restarts {
             out += &format!(
@@ -591,6 +596,8 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                 c.meaning.clone(),
                 c.rel_err_pct.map_or("-".into(), |e| format!("{e:.2} %")),
                 c.delta_bic.map_or("-".into(), |b| format!("{b:.1}")),
+                c.rel_err_pct
+                    .map_or("-".into(), |_| format!("{:.3} N", c.explained_rms_n)),
                 verdict(c),
                 c.parameters
                     .iter()
@@ -612,6 +619,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
             "what it means",
             "error with it",
             "dBIC",
+            "force it explains (rms)",
             "verdict",
             "parameters (95 % interval)",
         ],

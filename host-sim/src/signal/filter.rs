@@ -263,6 +263,21 @@ impl LowPass {
             .collect()
     }
 
+    /// The rms a white noise of unit variance keeps through the zero-phase filter: the norm
+    /// `||h||_2 = sqrt(sum h_k^2)` of its impulse response (about `sqrt(0.90 fc / (fs / 2))`
+    /// where the cutoff is well below Nyquist). A white noise `sigma` reads `sigma ||h||_2` in
+    /// the band.
+    pub fn noise_gain(&self) -> f64 {
+        let memory = self.memory_samples().min(1 << 20);
+        let mut impulse = vec![0.0; 4 * memory + 1];
+        impulse[2 * memory] = 1.0;
+        self.filtfilt(&impulse)
+            .iter()
+            .map(|h| h * h)
+            .sum::<f64>()
+            .sqrt()
+    }
+
     /// Zero-phase filtering of `x` (returns a new vector of the same length).
     pub fn filtfilt(&self, x: &[f64]) -> Vec<f64> {
         self.filtfilt_many(&[x]).pop().unwrap_or_default()
@@ -378,6 +393,32 @@ mod tests {
             }
         }
         y[pad..pad + n].to_vec()
+    }
+
+    /// The noise gain against Parseval on the filter's frequency response: the bilinear
+    /// Butterworth's `|H|^2 = 1 / (1 + (tan(w / 2) / tan(wc / 2))^8)`, squared by the two passes,
+    /// so `||h||^2 = (1 / pi) int_0^pi |H|^4 dw`.
+    #[test]
+    fn noise_gain_is_the_impulse_response_norm() {
+        for (fc, fs) in [(20.0, 1000.0), (20.0, 250.0), (5.0, 100.0), (100.0, 1000.0)] {
+            let k = (std::f64::consts::PI * fc / fs).tan();
+            let steps = 200_000;
+            let dw = std::f64::consts::PI / steps as f64;
+            let power: f64 = (0..steps)
+                .map(|i| {
+                    let w = (i as f64 + 0.5) * dw;
+                    let h2 = 1.0 / (1.0 + ((w / 2.0).tan() / k).powi(8));
+                    h2 * h2 * dw
+                })
+                .sum::<f64>()
+                / std::f64::consts::PI;
+            let gain = LowPass::butterworth4(fc, fs).noise_gain();
+            assert!(
+                (gain / power.sqrt() - 1.0).abs() < 1e-4,
+                "{fc} Hz at {fs} Hz: {gain} against {}",
+                power.sqrt()
+            );
+        }
     }
 
     #[test]

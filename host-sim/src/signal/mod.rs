@@ -11,4 +11,6 @@ pub mod sensor;
 pub use autocorrelation::integrated_autocorrelation_time;
 pub use difference::central_difference;
 pub use filter::{segmented, LowPass};
-pub use sensor::{edge_interpolated, encoder_resolution, force_noise};
+pub use sensor::{
+    edge_interpolated, encoder_resolution, force_noise, force_noise_fourth_difference,
+};
