@@ -1,7 +1,8 @@
 //! What a record's sensors resolve, measured on the record itself: the position reading's count
 //! ([`encoder_resolution`]) and the force's white noise ([`force_noise`],
 //! [`force_noise_fourth_difference`]). Identification weighs its residuals with them;
-//! diagnosis tells a count toggling at rest from motion, and an effect from the force noise.
+//! diagnosis tells a count toggling at rest from motion, and reports the force noise beside the
+//! force each candidate effect explains.
 
 /// Share of a reading's nonzero steps that must be whole multiples of the smallest one for
 /// the reading to count as quantised.
@@ -42,17 +43,7 @@ pub fn encoder_resolution(x: &[f64]) -> f64 {
 /// next to none from a force that changes smoothly over several periods), robustly: the
 /// median absolute value over 0.6745.
 pub fn force_noise(force: &[f64]) -> f64 {
-    let mut d: Vec<f64> = force
-        .windows(3)
-        .map(|w| (w[2] - 2.0 * w[1] + w[0]).abs())
-        .filter(|d| d.is_finite())
-        .collect();
-    if d.is_empty() {
-        return 0.0;
-    }
-    let mid = d.len() / 2;
-    let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
-    *median / 0.6745 / 6f64.sqrt()
+    robust_sigma(force.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]), 6.0)
 }
 
 /// The standard deviation of a force's white measurement noise \[N\] from its fourth
@@ -63,9 +54,20 @@ pub fn force_noise(force: &[f64]) -> f64 {
 /// fourth differences 0.99..1.04x (records 550..579, test
 /// `the_force_noise_is_measured_on_the_record`).
 pub fn force_noise_fourth_difference(force: &[f64]) -> f64 {
-    let mut d: Vec<f64> = force
-        .windows(5)
-        .map(|w| (w[4] - 4.0 * w[3] + 6.0 * w[2] - 4.0 * w[1] + w[0]).abs())
+    robust_sigma(
+        force
+            .windows(5)
+            .map(|w| w[4] - 4.0 * w[3] + 6.0 * w[2] - 4.0 * w[1] + w[0]),
+        70.0,
+    )
+}
+
+/// The white noise's standard deviation from differences whose variance is `gain sigma^2`:
+/// the median absolute difference over 0.6745 (a normal's), over `sqrt(gain)`; 0 without a
+/// finite difference.
+fn robust_sigma(differences: impl Iterator<Item = f64>, gain: f64) -> f64 {
+    let mut d: Vec<f64> = differences
+        .map(f64::abs)
         .filter(|d| d.is_finite())
         .collect();
     if d.is_empty() {
@@ -73,7 +75,7 @@ pub fn force_noise_fourth_difference(force: &[f64]) -> f64 {
     }
     let mid = d.len() / 2;
     let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
-    *median / 0.6745 / 70f64.sqrt()
+    *median / 0.6745 / gain.sqrt()
 }
 
 /// A quantised position reading reconstructed from its count edges \[m\]: where the reading
