@@ -195,8 +195,7 @@ pub fn residual_effective_samples(p: &Prepared, filtered: &[f64]) -> f64 {
         .step_by(LS_STRIDE) // band-limited to 20 Hz: every 4th sample keeps the correlation
         .collect();
     // tau counts strided samples: in full-rate samples it is LS_STRIDE times larger
-    (p.weight.iter().sum::<f64>() / (integrated_autocorrelation_time(&r) * LS_STRIDE as f64))
-        .max(10.0)
+    (p.scored_weight() / (integrated_autocorrelation_time(&r) * LS_STRIDE as f64)).max(10.0)
 }
 
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
@@ -754,7 +753,7 @@ fn linearise<'p>(
         }
         xty[a] = sums_y[a] * LS_STRIDE as f64 / scale[a];
     }
-    let n_scored = p.weight.iter().sum::<f64>();
+    let n_scored = p.scored_weight();
     Linearisation {
         model: *m,
         params,

@@ -476,9 +476,15 @@ impl Prepared {
         self.force_norm = scored_norm(&self.force, &self.weight);
     }
 
+    /// The scored samples' total weight, `sum w` (what a residual sum of squares is summed
+    /// over).
+    pub fn scored_weight(&self) -> f64 {
+        self.weight.iter().sum::<f64>()
+    }
+
     /// Fraction of samples scored.
     pub fn scored_fraction(&self) -> f64 {
-        self.weight.iter().sum::<f64>() / self.len().max(1) as f64
+        self.scored_weight() / self.len().max(1) as f64
     }
 
     /// Operating conditions at sample `i` (missing channels at the model's reference).

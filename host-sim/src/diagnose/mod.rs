@@ -959,7 +959,7 @@ impl<'a> Current<'a> {
         Self {
             fit,
             peak_rss: brk.peak_rss(&fit.prediction),
-            weight_sum: p.weight.iter().sum::<f64>().max(1.0),
+            weight_sum: p.scored_weight().max(1.0),
         }
     }
 }
@@ -1667,7 +1667,7 @@ fn unresolved_by_spread(p: &Prepared, own: &[f64], spread: &[f64], floor: f64) -
 /// least `floor^2` times the scored force's mean square \[N^2\]: what [`unresolved`] and
 /// [`motion_weights`] hold a prediction's spread against.
 fn residual_yardstick(p: &Prepared, own: &[f64], floor: f64) -> f64 {
-    let scored = p.weight.iter().sum::<f64>().max(1.0);
+    let scored = p.scored_weight().max(1.0);
     (p.weighted_rss_filtered(own) / scored).max((floor * p.force_norm).powi(2) / scored)
 }
 
