@@ -76,6 +76,9 @@ struct Row {
     /// how often the baseline was replaced by a better start a candidate revealed
     /// (`diagnose::Restart`)
     restarts: usize,
+    /// the baseline's candidates fitted as stages to settle a close call
+    /// (`diagnose::CLOSE_CALL`)
+    settled: Vec<String>,
 }
 
 fn main() {
@@ -367,6 +370,7 @@ fn run(effect: Option<&'static str>, seed: u64, sensors: Sensors) -> Row {
         departures: 0,
         peak_trend_dbic: f64::NAN,
         restarts: 0,
+        settled: Vec::new(),
     };
     let name = format!("{hidden}-{seed}.csv");
     let rec = match Record::parse(&text, Path::new(&name)) {
@@ -437,6 +441,12 @@ fn run(effect: Option<&'static str>, seed: u64, sensors: Sensors) -> Row {
         .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
         .and_then(|c| c.dwell);
     row.restarts = d.stages[0].restarts.len();
+    row.settled = d.stages[0]
+        .candidates
+        .iter()
+        .filter(|c| c.settled_as_stage)
+        .map(|c| c.kind.to_string())
+        .collect();
     row.motion_spread_pct = d.motion_spread_pct;
     row.scored_fraction = p.scored_fraction();
     row.departures = d.breakaway.departures.len();

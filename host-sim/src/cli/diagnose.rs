@@ -453,6 +453,15 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                     diagnose::FITTED_BEFORE_RESTART
                 );
             }
+            let settled: Vec<String> = s
+                .candidates
+                .iter()
+                .filter(|c| c.settled_as_stage)
+                .map(|c| c.kind.to_string())
+                .collect();
+            if !settled.is_empty() {
+                println!("   {}: {}", settled.join(", "), diagnose::SETTLED_AS_STAGE);
+            }
             if !s.candidates.iter().any(|c| c.significant) {
                 match s.near_miss() {
                     Some((c, why)) => println!(

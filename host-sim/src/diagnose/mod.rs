@@ -335,6 +335,12 @@ pub struct Candidate {
     /// the new model.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub fitted_before_restart: bool,
+    /// Searched again as a stage searches ([`polish`]: two rounds, the stiffness too) and
+    /// judged on that fit: a close call in the stage's final ranking, its error within
+    /// [`CLOSE_CALL`] of the first significant candidate's, or that first candidate itself
+    /// (see `settle_close_call`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub settled_as_stage: bool,
 }
 
 impl Candidate {
@@ -1148,6 +1154,102 @@ fn larger_on_top(
     s.staged = Some(with_nested);
 }
 
+/// A significant candidate whose error is within this factor of the first significant
+/// candidate's is a close call, settled on fits searched as a stage searches
+/// (`settle_close_call`). Fixed before its first run (session 34), not tuned.
+pub const CLOSE_CALL: f64 = 1.25;
+
+/// What the text output and the report say of a candidate [`Candidate::settled_as_stage`].
+pub const SETTLED_AS_STAGE: &str =
+    "a close call: searched again as a stage searches, and judged on that fit";
+
+/// Settles a close call in a stage's final ranking on fits that have converged as far as a
+/// stage's: when other significant candidates score within [`CLOSE_CALL`] of the first
+/// significant one's error, each of them and the first are searched again as a stage searches
+/// from its candidate's start ([`polish`]: the Stribeck velocity, the stiffness and the
+/// effect's own parameter, two rounds), kept where they score better, judged again on the
+/// final verdict's yardstick, and the list is sorted again. A candidate's fit is searched from
+/// the current model, whose Stribeck curve and stiffness a missing effect has bent, and polished
+/// one round without the stiffness. On never-run viscous-power record 20642 the Stribeck shape
+/// scored 1.02 % (named) and the viscous power 1.08 %, which as a stage reaches 0.47 % (the
+/// truth 0.58 %). Only significant candidates are searched again, so a record where none is
+/// keeps its verdict: settling close calls inside the ranking, before its restarts, carried
+/// the stage fits into the judging against a better start and made one effect-free record of
+/// 50 a false positive (session 34). Both of a stage's starts ([`stage_fit`]) gave the same
+/// answers but one (calibration viscous 1600: temperature dependence, where this names the
+/// viscous power) and cost more (viscous 1002: 13.1 s, from the candidate's start 10.4 s,
+/// 6.2 s without the settlement, on a machine where most records take 5..6 s). The asymmetry and the offset are never rivals: their nested check
+/// (`prefer_nested`) ran for the first significant candidate only.
+fn settle_close_call(
+    out: &mut [Candidate],
+    p: &Prepared,
+    brk: &Breakaway,
+    current: &Fit,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) {
+    let Some(lead) = out.iter().position(|c| c.significant) else {
+        return;
+    };
+    let Some(lead_err) = out[lead].rel_err_pct else {
+        return;
+    };
+    let partner = |e: EffectKind| {
+        NESTED
+            .iter()
+            .any(|&(l, n)| (l, n) == (out[lead].kind, e) || (n, l) == (out[lead].kind, e))
+    };
+    let rivals = (0..out.len()).filter(|&j| {
+        let c = &out[j];
+        j != lead
+            && c.significant
+            && c.rel_err_pct.is_some_and(|e| e <= CLOSE_CALL * lead_err)
+            && !partner(c.kind)
+            && !matches!(c.kind, EffectKind::Asymmetry | EffectKind::Offset)
+    });
+    let contenders: Vec<usize> = std::iter::once(lead).chain(rivals).collect();
+    if contenders.len() < 2 {
+        return;
+    }
+    // the final verdict's yardstick (`rank_among`): the best candidate's residual
+    let n_c = out
+        .iter()
+        .filter_map(|c| c.fit.as_ref())
+        .min_by(|a, b| a.rss.total_cmp(&b.rss))
+        .map_or(n_eff, |f| {
+            n_eff.min(fit::residual_effective_samples(p, &f.prediction))
+        });
+    let reference = Current::new(current, brk, p);
+    let polished: Vec<(usize, Fit)> = contenders
+        .par_iter()
+        .filter_map(|&i| {
+            let f = out[i].fit.as_ref()?;
+            Some((
+                i,
+                polish(f, Some(out[i].kind), p, fixed_mass, n_eff, 2, true),
+            ))
+        })
+        .collect();
+    for (i, f) in polished {
+        let c = &out[i];
+        if c.fit.as_ref().is_some_and(|g| f.rss < g.rss) {
+            let info = effect_info(c.kind);
+            let rest_null = rest_independent_twin(p, fixed_mass, brk, info, &reference, &f, n_eff);
+            let (params, nl) = (c.parameters.clone(), c.nonlinear_excludes_null);
+            out[i] = Candidate {
+                fitted_before_restart: c.fitted_before_restart,
+                ..judge(brk, &reference, info, f.clone(), params, nl, rest_null, n_c)
+            };
+        }
+        out[i].settled_as_stage = true;
+    }
+    out.sort_by(|a, b| {
+        b.delta_bic
+            .unwrap_or(f64::NEG_INFINITY)
+            .total_cmp(&a.delta_bic.unwrap_or(f64::NEG_INFINITY))
+    });
+}
+
 /// Effect `e` alone scored, polished and judged against `current` as [`rank_among`] does
 /// (`None` where `current` has it already).
 fn rank_one(
@@ -1299,6 +1401,7 @@ fn score(
         dwell: None,
         staged: None,
         fitted_before_restart: false,
+        settled_as_stage: false,
     };
     if cand.skipped.is_some() {
         return cand;
@@ -1523,6 +1626,7 @@ fn judge(
         dwell,
         staged: None,
         fitted_before_restart: false,
+        settled_as_stage: false,
     }
 }
 
@@ -2002,7 +2106,9 @@ fn stage(
     rank: bool,
 ) -> Stage {
     let (fit, candidates, restarts) = if rank {
-        rank_from_best_start(fit, p, brk, fixed_mass, n_eff)
+        let (fit, mut candidates, restarts) = rank_from_best_start(fit, p, brk, fixed_mass, n_eff);
+        settle_close_call(&mut candidates, p, brk, &fit, fixed_mass, n_eff);
+        (fit, candidates, restarts)
     } else {
         (fit, Vec::new(), Vec::new())
     };
@@ -2082,6 +2188,7 @@ mod tests {
             staged: None,
             nonlinear_excludes_null: true,
             fitted_before_restart: false,
+            settled_as_stage: false,
         }
     }
 

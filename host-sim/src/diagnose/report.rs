@@ -275,6 +275,9 @@ fn verdict(c: &super::Candidate) -> String {
     if c.fitted_before_restart {
         v += &format!(" ({})", super::FITTED_BEFORE_RESTART);
     }
+    if c.settled_as_stage {
+        v += &format!(" ({})", super::SETTLED_AS_STAGE);
+    }
     v
 }
 
