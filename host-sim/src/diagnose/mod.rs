@@ -1211,22 +1211,70 @@ fn settle_close_call(
     if contenders.len() < 2 {
         return;
     }
-    // the final verdict's yardstick (`rank_among`): the best candidate's residual
-    let n_c = out
-        .iter()
+    let reference = Current::new(current, brk, p);
+    let n_c = verdict_samples(out, p, n_eff);
+    polish_again(
+        out,
+        &contenders,
+        (2, true),
+        p,
+        brk,
+        &reference,
+        fixed_mass,
+        n_eff,
+        n_c,
+    );
+    for &i in &contenders {
+        out[i].settled_as_stage = true;
+    }
+    out.sort_by(by_bic);
+}
+
+/// Candidates ordered by their evidence, the most first (skipped ones last).
+fn by_bic(a: &Candidate, b: &Candidate) -> std::cmp::Ordering {
+    b.delta_bic
+        .unwrap_or(f64::NEG_INFINITY)
+        .total_cmp(&a.delta_bic.unwrap_or(f64::NEG_INFINITY))
+}
+
+/// The final verdict's yardstick: the effective samples of the best candidate's residual
+/// (nested-model testing: the larger model's residual is the closer to noise), whose
+/// integrated autocorrelation time caps the bandwidth count `n_eff`. Screening with the
+/// bandwidth count alone lets slow model mismatch pass for evidence; judging each candidate on
+/// its own residual ranked a better fit below a worse one (a residual with less structure left
+/// can have a longer autocorrelation time).
+fn verdict_samples(out: &[Candidate], p: &Prepared, n_eff: f64) -> f64 {
+    out.iter()
         .filter_map(|c| c.fit.as_ref())
         .min_by(|a, b| a.rss.total_cmp(&b.rss))
         .map_or(n_eff, |f| {
             n_eff.min(fit::residual_effective_samples(p, &f.prediction))
-        });
-    let reference = Current::new(current, brk, p);
-    let polished: Vec<(usize, Fit)> = contenders
+        })
+}
+
+/// The candidates at `which` searched again ([`polish`] with `rounds` and `stiffness`), side by
+/// side; each fit kept where it scores better and judged again against `reference` on `n_judge`
+/// effective samples.
+#[allow(clippy::too_many_arguments)]
+fn polish_again(
+    out: &mut [Candidate],
+    which: &[usize],
+    (rounds, stiffness): (usize, bool),
+    p: &Prepared,
+    brk: &Breakaway,
+    reference: &Current,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+    n_judge: f64,
+) {
+    let polished: Vec<(usize, Fit)> = which
         .par_iter()
         .filter_map(|&i| {
             let f = out[i].fit.as_ref()?;
+            let kind = out[i].kind;
             Some((
                 i,
-                polish(f, Some(out[i].kind), p, fixed_mass, n_eff, 2, true),
+                polish(f, Some(kind), p, fixed_mass, n_eff, rounds, stiffness),
             ))
         })
         .collect();
@@ -1234,20 +1282,14 @@ fn settle_close_call(
         let c = &out[i];
         if c.fit.as_ref().is_some_and(|g| f.rss < g.rss) {
             let info = effect_info(c.kind);
-            let rest_null = rest_independent_twin(p, fixed_mass, brk, info, &reference, &f, n_eff);
+            let rest_null = rest_independent_twin(p, fixed_mass, brk, info, reference, &f, n_eff);
             let (params, nl) = (c.parameters.clone(), c.nonlinear_excludes_null);
             out[i] = Candidate {
                 fitted_before_restart: c.fitted_before_restart,
-                ..judge(brk, &reference, info, f.clone(), params, nl, rest_null, n_c)
+                ..judge(brk, reference, info, f, params, nl, rest_null, n_judge)
             };
         }
-        out[i].settled_as_stage = true;
     }
-    out.sort_by(|a, b| {
-        b.delta_bic
-            .unwrap_or(f64::NEG_INFINITY)
-            .total_cmp(&a.delta_bic.unwrap_or(f64::NEG_INFINITY))
-    });
 }
 
 /// Effect `e` alone scored, polished and judged against `current` as [`rank_among`] does
@@ -1293,11 +1335,6 @@ fn rank_among(
         c.rest_null = c.rest_null.map(|null| null.or_current(&reference));
         c
     }));
-    let by_bic = |a: &Candidate, b: &Candidate| {
-        b.delta_bic
-            .unwrap_or(f64::NEG_INFINITY)
-            .total_cmp(&a.delta_bic.unwrap_or(f64::NEG_INFINITY))
-    };
     out.sort_by(by_bic);
     // Second stage: the leading candidates are judged again after their nonlinear parameters
     // and the Stribeck velocity have moved (see `polish`); a missing effect biases the
@@ -1318,38 +1355,19 @@ fn rank_among(
         })
         .take(POLISHED_LEADERS)
         .collect();
-    let polished: Vec<(usize, Fit)> = leaders
-        .par_iter()
-        .filter_map(|&i| {
-            let f = out[i].fit.as_ref()?;
-            Some((
-                i,
-                polish(f, Some(out[i].kind), p, fixed_mass, n_eff, 1, false),
-            ))
-        })
-        .collect();
-    for (i, f) in polished.iter().cloned() {
-        let better = f.rss < out[i].fit.as_ref().map_or(f64::INFINITY, |g| g.rss);
-        if better {
-            let info = effect_info(out[i].kind);
-            let (params, nl) = (out[i].parameters.clone(), out[i].nonlinear_excludes_null);
-            let rest_null = rest_independent_twin(p, fixed_mass, brk, info, &reference, &f, n_eff);
-            out[i] = judge(brk, &reference, info, f, params, nl, rest_null, n_eff);
-        }
-    }
-    // Final verdict for every candidate, on one yardstick: the noise is judged from the best
-    // candidate's residual (nested-model testing: the larger model's residual is the closer to
-    // noise), whose integrated autocorrelation time caps the bandwidth count. Screening with
-    // the bandwidth count alone lets slow model mismatch pass for evidence; judging each
-    // candidate on its own residual ranked a better fit below a worse one (a residual with
-    // less structure left can have a longer autocorrelation time).
-    let best = out
-        .iter()
-        .filter_map(|c| c.fit.as_ref())
-        .min_by(|a, b| a.rss.total_cmp(&b.rss));
-    let n_c = best.map_or(n_eff, |f| {
-        n_eff.min(fit::residual_effective_samples(p, &f.prediction))
-    });
+    polish_again(
+        &mut out,
+        &leaders,
+        (1, false),
+        p,
+        brk,
+        &reference,
+        fixed_mass,
+        n_eff,
+        n_eff,
+    );
+    // Final verdict for every candidate, on one yardstick
+    let n_c = verdict_samples(&out, p, n_eff);
     let judged: Vec<Candidate> = out
         .par_iter()
         .map(|c| match &c.fit {
