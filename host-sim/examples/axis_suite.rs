@@ -76,8 +76,8 @@ struct Row {
     /// how often the baseline was replaced by a better start a candidate revealed
     /// (`diagnose::Restart`)
     restarts: usize,
-    /// the baseline's candidates fitted as stages to settle a close call
-    /// (`diagnose::CLOSE_CALL`)
+    /// the baseline's candidates searched again to settle a close call
+    /// (`diagnose::CLOSE_CALL`, `Candidate::settled_as_stage`)
     settled: Vec<String>,
 }
 

@@ -1178,8 +1178,9 @@ pub const SETTLED_AS_STAGE: &str =
 /// 50 a false positive (session 34). Both of a stage's starts ([`stage_fit`]) gave the same
 /// answers but one (calibration viscous 1600: temperature dependence, where this names the
 /// viscous power) and cost more (viscous 1002: 13.1 s, from the candidate's start 10.4 s,
-/// 6.2 s without the settlement, on a machine where most records take 5..6 s). The asymmetry and the offset are never rivals: their nested check
-/// (`prefer_nested`) ran for the first significant candidate only.
+/// 6.2 s without the settlement, on a machine where most records take 5..6 s). The effects of
+/// a nested pair ([`NESTED`]) are never rivals: their check (`prefer_nested`) ran for the first
+/// significant candidate only.
 fn settle_close_call(
     out: &mut [Candidate],
     p: &Prepared,
@@ -1194,18 +1195,14 @@ fn settle_close_call(
     let Some(lead_err) = out[lead].rel_err_pct else {
         return;
     };
-    let partner = |e: EffectKind| {
-        NESTED
-            .iter()
-            .any(|&(l, n)| (l, n) == (out[lead].kind, e) || (n, l) == (out[lead].kind, e))
-    };
+    // an effect of a nested pair is never a rival: the pair's check ran for the first only
+    let nested = |e: EffectKind| NESTED.iter().any(|&(l, n)| e == l || e == n);
     let rivals = (0..out.len()).filter(|&j| {
         let c = &out[j];
         j != lead
             && c.significant
             && c.rel_err_pct.is_some_and(|e| e <= CLOSE_CALL * lead_err)
-            && !partner(c.kind)
-            && !matches!(c.kind, EffectKind::Asymmetry | EffectKind::Offset)
+            && !nested(c.kind)
     });
     let contenders: Vec<usize> = std::iter::once(lead).chain(rivals).collect();
     if contenders.len() < 2 {
