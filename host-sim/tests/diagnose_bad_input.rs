@@ -149,6 +149,9 @@ fn the_report_is_self_contained_and_lists_the_whole_model() {
     );
     assert_eq!(html.matches("class=\"zoom\"").count(), 2);
     assert!(html.contains("addEventListener('wheel'"));
+    // a number keeps its unit on its line in the candidate table (a narrow column broke
+    // "1.30 %" into "1.30" above "%")
+    assert!(html.contains("\u{a0}%</td>") && !html.contains(" %</td>"));
     for remote in ["src=\"http", "href=\"http", "@import", "<link"] {
         assert!(!html.contains(remote), "{remote}");
     }

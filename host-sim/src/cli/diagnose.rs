@@ -386,6 +386,12 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
         for (name, edge) in &s.fit.flags.at_search_edge {
             println!("   note: {name} ended at the edge of its search range ({edge:.3e})");
         }
+        for e in diagnose::effect_search_edges(&s.fit.model) {
+            println!(
+                "   note: {} {} ended at the edge of its search range ({:.3e}, searched {:.3e}..{:.3e})",
+                e.effect, e.name, e.value, e.range.0, e.range.1
+            );
+        }
         for (name, why) in &s.fit.flags.priors {
             println!("   not identifiable: {name}: {why}");
         }

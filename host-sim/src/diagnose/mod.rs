@@ -1730,6 +1730,55 @@ fn rest_independent_twin(
     )
 }
 
+/// An effect's searched parameter that a model holds at the edge of its search range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SearchEdge {
+    /// The effect whose parameter it is.
+    pub effect: EffectKind,
+    /// The parameter's name, as the candidate list and the parameter file name it.
+    pub name: &'static str,
+    /// Its value in the model (one of the range's ends).
+    pub value: f64,
+    /// The range it was searched over, `(low, high)`.
+    pub range: (f64, f64),
+}
+
+/// The searched parameters of every effect `m` carries (an effect's nonlinear parameter and
+/// its second shape parameter, see [`EffectInfo`]) that sit at an end of their search range:
+/// the fit may want a value beyond it, and a reader must be told so, not left to take the
+/// value as found. A model order is at the edge only at the top ([`EffectInfo::orders_first`]).
+pub fn effect_search_edges(m: &AxisModel) -> Vec<SearchEdge> {
+    let ends = |grid: &[f64]| {
+        let lo = grid.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = grid.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    };
+    let mut out = Vec::new();
+    for info in &EFFECTS {
+        if let (Some((name, grid, _)), Some(v)) = (info.nonlinear, nonlinear_value(m, info.kind)) {
+            if effect_on_edge(info, grid, v) {
+                out.push(SearchEdge {
+                    effect: info.kind,
+                    name,
+                    value: v,
+                    range: ends(grid),
+                });
+            }
+        }
+        if let (Some((name, grid)), Some(v)) = (info.shape, fit::shape_value(m, info.kind)) {
+            if on_edge(grid, v) {
+                out.push(SearchEdge {
+                    effect: info.kind,
+                    name,
+                    value: v,
+                    range: ends(grid),
+                });
+            }
+        }
+    }
+    out
+}
+
 /// The nonlinear parameter of an effect in a model.
 fn nonlinear_value(m: &AxisModel, effect: EffectKind) -> Option<f64> {
     let e = &m.friction.effects;
@@ -2225,5 +2274,83 @@ mod tests {
         let mut c = candidate(true, mid);
         c.caution = Some("untestable".into());
         assert!(c.near_cut().is_none(), "a caution says why instead");
+    }
+}
+
+#[cfg(test)]
+mod search_edge_tests {
+    use super::*;
+    use lugre_servo::friction::{effects as fx, FrictionModel, LugreParams};
+
+    fn model(effects: fx::Effects<f64>) -> AxisModel {
+        let params = LugreParams::new(1e8, 1e3, 2e3, 300.0, 400.0, 5e-3).unwrap();
+        AxisModel {
+            mass_kg: 200.0,
+            friction: FrictionModel { params, effects },
+        }
+    }
+
+    /// Each effect's searched parameter is flagged at either end of its grid (a model order at
+    /// the top only), with its range, and not inside it.
+    #[test]
+    fn searched_parameters_at_their_range_ends_are_flagged() {
+        let mut e = fx::Effects::none();
+        e.viscous_power = Some(fx::ViscousPower {
+            exponent: 0.3,
+            reference_velocity: 0.02,
+        });
+        e.dwell_stiction = Some(fx::DwellStiction {
+            max_increase: 10.0,
+            time_constant: 5.0,
+            stick_velocity: 2e-4,
+            renewal_distance: 1e-3,
+        });
+        let edges = effect_search_edges(&model(e));
+        assert_eq!(
+            edges,
+            vec![
+                SearchEdge {
+                    effect: EffectKind::ViscousPower,
+                    name: "exponent",
+                    value: 0.3,
+                    range: (0.3, 2.5),
+                },
+                SearchEdge {
+                    effect: EffectKind::DwellStiction,
+                    name: "time_constant_s",
+                    value: 5.0,
+                    range: (0.1, 5.0),
+                },
+            ]
+        );
+        // the renewal distance at its smallest, the exponent inside: one flag, the shape's
+        let mut e = fx::Effects::none();
+        e.viscous_power = Some(fx::ViscousPower {
+            exponent: 1.15,
+            reference_velocity: 0.02,
+        });
+        e.dwell_stiction = Some(fx::DwellStiction {
+            max_increase: 10.0,
+            time_constant: 0.5,
+            stick_velocity: 2e-4,
+            renewal_distance: 1e-5,
+        });
+        let edges = effect_search_edges(&model(e));
+        assert_eq!(edges.len(), 1, "{edges:?}");
+        assert_eq!(edges[0].name, "renewal_distance_m");
+        // no terms is a model the data chose; all of them is an edge
+        for (terms, flagged) in [(0usize, false), (8, true)] {
+            let mut pd = fx::PositionDependence::linear(0.0, 0.0);
+            pd.terms = terms;
+            let e = fx::Effects {
+                position_dependence: Some(pd),
+                ..fx::Effects::none()
+            };
+            assert_eq!(
+                !effect_search_edges(&model(e)).is_empty(),
+                flagged,
+                "{terms}"
+            );
+        }
     }
 }

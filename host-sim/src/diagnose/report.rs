@@ -221,6 +221,10 @@ fn regime_bias(first: &Stage, last: &Stage) -> Result<String> {
     )
 }
 
+/// Joins a number to its unit in a table cell: a narrow column breaks the line at a space, and
+/// "1.30" above "%" reads as two cells.
+const NBSP: char = '\u{a0}';
+
 fn table(rows: &[Vec<String>], head: &[&str]) -> String {
     let mut s = String::from("<table><tr>");
     for h in head {
@@ -334,28 +338,58 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
             push(section, v);
         }
     }
+    // the effects' searched parameters at an edge of their range, by section and name
+    let effect_edges = super::effect_search_edges(m);
     entries
         .into_iter()
         .map(|(section, key, value)| {
             let estimate = fit.estimates.iter().find(|e| e.param.label() == key);
             let prior = fit.flags.priors.iter().find(|p| p.0 == key);
-            let edge = fit.flags.at_search_edge.iter().find(|p| p.0 == key);
+            let effect = section
+                .strip_prefix("effects.")
+                .and_then(|n| super::parse_effect(n).ok());
+            // searched (no interval from the linearisation): the stage's nonlinear parameters,
+            // and an effect's own ones (its grid's name, or its second shape parameter's)
+            let searched = match effect {
+                Some(k) => {
+                    let info = super::effect_info(k);
+                    info.nonlinear.is_some_and(|(n, _, _)| n == key)
+                        || info.shape.is_some_and(|(n, _)| n == key)
+                }
+                None => section == "lugre" && estimate.is_none(),
+            };
+            let edge = match effect {
+                Some(k) => effect_edges
+                    .iter()
+                    .find(|e| e.effect == k && e.name == key)
+                    .map(|e| format!(" ({} .. {})", num(e.range.0), num(e.range.1))),
+                None => fit
+                    .flags
+                    .at_search_edge
+                    .iter()
+                    .find(|p| p.0 == key)
+                    .map(|_| String::new()),
+            };
             let interval = estimate.map_or(String::new(), |e| {
                 let h = 1.96 * e.std_error;
                 format!(
-                    "{} .. {}",
+                    "{}{NBSP}..{NBSP}{}",
                     crate::timing::sig3(e.value - h),
                     crate::timing::sig3(e.value + h)
                 )
             });
             let status = if let Some(p) = prior {
                 format!("prior: {}", p.1)
-            } else if edge.is_some() {
-                "at the edge of its search range".into()
+            } else if let Some(range) = edge {
+                format!(
+                    "at the edge of its search range{range}: the fit may want a value beyond it"
+                )
             } else if estimate.is_some() {
                 "fitted".into()
+            } else if searched {
+                "searched (nonlinear): no interval".into()
             } else {
-                "fitted (nonlinear search) or fixed by the effect".into()
+                "fixed by the effect's definition".into()
             };
             vec![section, key, num(value), interval, status]
         })
@@ -449,7 +483,7 @@ fn across_page(a: &super::across::Across) -> Result<String> {
                 r.name.clone(),
                 conds.join(", "),
                 levels.join(", "),
-                format!("{:.2} %", r.rel_err_pct),
+                format!("{:.2}{NBSP}%", r.rel_err_pct),
             ]
         })
         .collect();
@@ -597,10 +631,11 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
             vec![
                 c.kind.name().to_string(),
                 c.meaning.clone(),
-                c.rel_err_pct.map_or("-".into(), |e| format!("{e:.2} %")),
+                c.rel_err_pct
+                    .map_or("-".into(), |e| format!("{e:.2}{NBSP}%")),
                 c.delta_bic.map_or("-".into(), |b| format!("{b:.1}")),
                 c.rel_err_pct
-                    .map_or("-".into(), |_| format!("{:.3} N", c.explained_rms_n)),
+                    .map_or("-".into(), |_| format!("{:.3}{NBSP}N", c.explained_rms_n)),
                 verdict(c),
                 c.parameters
                     .iter()
@@ -634,7 +669,91 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         &model_rows(&last.fit),
         &["section", "parameter", "value", "95 % interval", "status"],
     );
+    let edges = super::effect_search_edges(&last.fit.model);
+    if !edges.is_empty() {
+        let listed: Vec<String> = edges
+            .iter()
+            .map(|e| {
+                format!(
+                    "{} {} = {} (searched {} .. {})",
+                    e.effect,
+                    e.name,
+                    num(e.value),
+                    num(e.range.0),
+                    num(e.range.1)
+                )
+            })
+            .collect();
+        out += &format!(
+            "<p><b>At the edge of its search range</b> (the fit may want a value beyond it): {}.</p>",
+            escape(&listed.join("; "))
+        );
+    }
     out += ZOOM_SCRIPT;
     out += "</body></html>";
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::fit::{Fit, Flags};
+    use crate::diagnose::inverse::AxisModel;
+    use lugre_servo::friction::{effects as fx, FrictionModel, LugreParams};
+
+    /// A model with a viscous power law whose exponent sits at the low end of its grid.
+    fn fit_with_viscous_exponent(exponent: f64) -> Fit {
+        let params = LugreParams::new(1e8, 1e3, 2e3, 300.0, 400.0, 5e-3).unwrap();
+        let mut effects = fx::Effects::none();
+        effects.viscous_power = Some(fx::ViscousPower {
+            exponent,
+            reference_velocity: 0.02,
+        });
+        Fit {
+            model: AxisModel {
+                mass_kg: 200.0,
+                friction: FrictionModel { params, effects },
+            },
+            prediction: Vec::new(),
+            rel_err_pct: 1.0,
+            rel_err_all_pct: 1.0,
+            rss: 1.0,
+            estimates: Vec::new(),
+            at_bound: Vec::new(),
+            flags: Flags::default(),
+        }
+    }
+
+    fn status(rows: &[Vec<String>], section: &str, key: &str) -> String {
+        rows.iter()
+            .find(|r| r[0] == section && r[1] == key)
+            .unwrap_or_else(|| panic!("{section} {key} in {rows:?}"))[4]
+            .clone()
+    }
+
+    /// The final model table never lets a searched parameter at the end of its range pass as
+    /// found: it says so with the range; a searched parameter inside its range and a value the
+    /// effect's definition fixes are told apart.
+    #[test]
+    fn the_model_table_says_which_parameter_ended_at_its_search_edge() {
+        let rows = model_rows(&fit_with_viscous_exponent(0.3));
+        let edge = status(&rows, "effects.viscous_power", "exponent");
+        assert!(
+            edge.starts_with("at the edge of its search range (0.3 .. 2.5)"),
+            "{edge}"
+        );
+        assert_eq!(
+            status(&rows, "effects.viscous_power", "reference_velocity_m_per_s"),
+            "fixed by the effect's definition"
+        );
+        assert_eq!(
+            status(&rows, "lugre", "bristle_stiffness_n_per_m"),
+            "searched (nonlinear): no interval"
+        );
+        let inside = model_rows(&fit_with_viscous_exponent(1.15));
+        assert_eq!(
+            status(&inside, "effects.viscous_power", "exponent"),
+            "searched (nonlinear): no interval"
+        );
+    }
 }
