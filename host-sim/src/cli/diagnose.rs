@@ -101,6 +101,9 @@ pub struct JsonOut<'a> {
     /// What the preparation says of the record (timing repaired, the filter a coarse count
     /// chose).
     pub notes: &'a [String],
+    /// The final model's effect parameters that ended at an edge of their search range
+    /// (`diagnose::effect_search_edges`): the fit may want a value beyond it.
+    pub search_edges: Vec<diagnose::SearchEdge>,
 }
 
 /// Runs the subcommand.
@@ -195,6 +198,7 @@ pub fn run(a: &Args) -> Result<()> {
             breakaway: &d.breakaway,
             position_cutoff_hz: d.prepared.position_cutoff_hz,
             notes: &d.prepared.notes,
+            search_edges: diagnose::effect_search_edges(&last.fit.model),
         };
         super::write_json(path, &out)?;
     }

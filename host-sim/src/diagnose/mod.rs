@@ -1731,9 +1731,10 @@ fn rest_independent_twin(
 }
 
 /// An effect's searched parameter that a model holds at the edge of its search range.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct SearchEdge {
-    /// The effect whose parameter it is.
+    /// The effect whose parameter it is (serialised by its name).
+    #[serde(serialize_with = "effect_name")]
     pub effect: EffectKind,
     /// The parameter's name, as the candidate list and the parameter file name it.
     pub name: &'static str,
@@ -2290,22 +2291,28 @@ mod search_edge_tests {
         }
     }
 
-    /// Each effect's searched parameter is flagged at either end of its grid (a model order at
-    /// the top only), with its range, and not inside it.
-    #[test]
-    fn searched_parameters_at_their_range_ends_are_flagged() {
+    /// A model with a viscous power law and a dwell term: its exponent, time constant \[s\]
+    /// and renewal distance \[m\].
+    fn viscous_and_dwell(exponent: f64, time_constant: f64, renewal_distance: f64) -> AxisModel {
         let mut e = fx::Effects::none();
         e.viscous_power = Some(fx::ViscousPower {
-            exponent: 0.3,
+            exponent,
             reference_velocity: 0.02,
         });
         e.dwell_stiction = Some(fx::DwellStiction {
             max_increase: 10.0,
-            time_constant: 5.0,
+            time_constant,
             stick_velocity: 2e-4,
-            renewal_distance: 1e-3,
+            renewal_distance,
         });
-        let edges = effect_search_edges(&model(e));
+        model(e)
+    }
+
+    /// Each effect's searched parameter is flagged at either end of its grid (a model order at
+    /// the top only), with its range, and not inside it.
+    #[test]
+    fn searched_parameters_at_their_range_ends_are_flagged() {
+        let edges = effect_search_edges(&viscous_and_dwell(0.3, 5.0, 1e-3));
         assert_eq!(
             edges,
             vec![
@@ -2324,18 +2331,7 @@ mod search_edge_tests {
             ]
         );
         // the renewal distance at its smallest, the exponent inside: one flag, the shape's
-        let mut e = fx::Effects::none();
-        e.viscous_power = Some(fx::ViscousPower {
-            exponent: 1.15,
-            reference_velocity: 0.02,
-        });
-        e.dwell_stiction = Some(fx::DwellStiction {
-            max_increase: 10.0,
-            time_constant: 0.5,
-            stick_velocity: 2e-4,
-            renewal_distance: 1e-5,
-        });
-        let edges = effect_search_edges(&model(e));
+        let edges = effect_search_edges(&viscous_and_dwell(1.15, 0.5, 1e-5));
         assert_eq!(edges.len(), 1, "{edges:?}");
         assert_eq!(edges[0].name, "renewal_distance_m");
         // no terms is a model the data chose; all of them is an edge
