@@ -1132,7 +1132,8 @@ pub const DWELL_STICK_VELOCITY: f64 = 2e-4;
 
 /// The dwell's renewal distances the data choose from \[m\] (the shape's second nonlinear
 /// parameter, beside the time constant): from forgotten within the breakaway (10 um) to
-/// carried through the first centimetre of the move.
+/// carried through the first centimetre of the move; the search goes on between them (see
+/// `diagnose::EffectInfo::shape`).
 pub const DWELL_RENEWAL_GRID_M: [f64; 4] = [1e-5, 1e-4, 1e-3, 1e-2];
 
 /// The model with the second shape parameter of `effect` (see
