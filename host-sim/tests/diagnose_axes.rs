@@ -22,6 +22,11 @@ fn diagnose(effect: Option<&'static str>, seed: u64, add: &[&str]) -> (Diagnosis
     (diagnose::diagnose(&rec, "axis.csv", &opts).unwrap(), axis)
 }
 
+/// The first significant candidate's name, if any.
+fn first_significant(c: &[diagnose::Candidate]) -> Option<&'static str> {
+    c.iter().find(|c| c.significant).map(|c| c.kind.name())
+}
+
 fn report(d: &Diagnosis) -> String {
     d.stages[0]
         .candidates
@@ -180,12 +185,7 @@ fn nested_answer((hidden, seed): (&'static str, u64), set_aside: &str, why: &str
     assert!(!aside.significant && !aside.detected, "{}", report(&d));
     let caution = aside.caution.as_deref().unwrap_or_default();
     assert!(caution.contains(why), "{caution}");
-    assert_eq!(
-        c.iter().find(|c| c.significant).map(|c| c.kind.name()),
-        Some(hidden),
-        "{}",
-        report(&d)
-    );
+    assert_eq!(first_significant(c), Some(hidden), "{}", report(&d));
 }
 
 /// The same parsimony the other way round: on an independent asymmetry record (calibration
@@ -233,7 +233,7 @@ fn a_close_call_is_settled_on_converged_fits() {
     assert!(viscous.settled_as_stage && stribeck.settled_as_stage);
     assert!(viscous.rel_err_pct.unwrap() < 0.6, "{}", report(&d));
     assert_eq!(
-        c.iter().find(|c| c.significant).map(|c| c.kind.name()),
+        first_significant(c),
         Some("viscous_power"),
         "{}",
         report(&d)
@@ -265,7 +265,7 @@ fn the_dwell_renewal_distance_is_searched_between_its_grid_points() {
     assert!(!on_grid, "{renewal:e}");
     assert!(dwell.rel_err_pct.unwrap() < 2.6, "{}", report(&d));
     assert_eq!(
-        c.iter().find(|c| c.significant).map(|c| c.kind.name()),
+        first_significant(c),
         Some("dwell_stiction"),
         "{}",
         report(&d)

@@ -1787,26 +1787,19 @@ pub fn effect_search_edges(m: &AxisModel) -> Vec<SearchEdge> {
     };
     let mut out = Vec::new();
     for info in &EFFECTS {
-        if let (Some((name, grid, _)), Some(v)) = (info.nonlinear, nonlinear_value(m, info.kind)) {
-            if effect_on_edge(info, grid, v) {
-                out.push(SearchEdge {
-                    effect: info.kind,
-                    name,
-                    value: v,
-                    range: ends(grid),
-                });
-            }
-        }
-        if let (Some((name, grid)), Some(v)) = (info.shape, fit::shape_value(m, info.kind)) {
-            if on_edge(grid, v) {
-                out.push(SearchEdge {
-                    effect: info.kind,
-                    name,
-                    value: v,
-                    range: ends(grid),
-                });
-            }
-        }
+        // (name, grid, value, at an edge) of the nonlinear parameter, then of the shape's
+        let nonlinear = (info.nonlinear.zip(nonlinear_value(m, info.kind)))
+            .map(|((name, grid, _), v)| (name, grid, v, effect_on_edge(info, grid, v)));
+        let shape = (info.shape.zip(fit::shape_value(m, info.kind)))
+            .map(|((name, grid), v)| (name, grid, v, on_edge(grid, v)));
+        out.extend(nonlinear.into_iter().chain(shape).filter(|q| q.3).map(
+            |(name, grid, value, _)| SearchEdge {
+                effect: info.kind,
+                name,
+                value,
+                range: ends(grid),
+            },
+        ));
     }
     out
 }
