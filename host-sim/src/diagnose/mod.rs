@@ -844,6 +844,23 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
     polish(&seeded, None, p, fixed_mass, n_eff, 2, true)
 }
 
+/// The first baseline of a weighted diagnosis: it only sets the motion weights
+/// ([`prediction_spread`], [`motion_weights`]) and, where the position count is coarse, the
+/// position cutoff ([`prepare`]). [`baseline`] with one round of the nonlinear search, not
+/// refined: a weight follows how strongly the prediction moves with the motion reading, which
+/// the last steps of the search hardly change (stick-slip record 1504: vs 0.95 against
+/// 1.33 mm/s, 1.24 against 1.17 % of error, weights within 0.015 rms), and the weighted
+/// baseline searches again from the static table ([`baseline`]). It takes a 60 s record's
+/// diagnosis to 0.81 of its time (session 36, `diagnose_timing 1000 1001`).
+pub fn first_baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
+    if opts.given.is_some() {
+        return baseline(p, opts, n_eff);
+    }
+    let fixed_mass = opts.mass_kg;
+    let seeded = fit::refit(&static_seed(p, fixed_mass), p, fixed_mass, n_eff);
+    polish_rounds(&seeded, None, p, fixed_mass, n_eff, 1, true, false)
+}
+
 /// Mass and sigma1 whose 95 % interval reaches zero are not determined by the record. The mass
 /// is then held at its prior, zero (no inertial force worth modelling: give `--mass` for a
 /// controller), and refitted without it; sigma1 stays where the bounded fit put it (its prior,
@@ -898,6 +915,22 @@ pub fn polish(
     rounds: usize,
     stiffness: bool,
 ) -> Fit {
+    polish_rounds(
+        current, effect, p, fixed_mass, n_eff, rounds, stiffness, stiffness,
+    )
+}
+
+/// [`polish`], whose last round ends with the continuous refinement only where `refine`.
+fn polish_rounds(
+    current: &Fit,
+    effect: Option<EffectKind>,
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+    rounds: usize,
+    stiffness: bool,
+    refine: bool,
+) -> Fit {
     let mut best = current.clone();
     let searched: &[Nonlinear] = if stiffness {
         &[Nonlinear::StribeckVelocity, Nonlinear::BristleStiffness]
@@ -908,7 +941,7 @@ pub fn polish(
         for which in searched {
             // the last round of a full polish (a stage's model, not a candidate's quick re-judging)
             // ends with a continuous refinement
-            let refined = stiffness && round + 1 == rounds;
+            let refined = refine && stiffness && round + 1 == rounds;
             let f = search_one(*which, &best, p, fixed_mass, n_eff, refined);
             // on the last round a parameter the record does not determine goes to its prior
             // (the profile is flat: the fit changes by less than the 95 % threshold)
@@ -1953,7 +1986,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     // a first baseline, and how much of its prediction the motion reading leaves open
     let (mut spread, mut motion_weighted) = (None, false);
     if !opts.unweighted || opts.leave_out_unresolved.is_some() {
-        let first = first.unwrap_or_else(|| baseline(&p, opts, n_eff));
+        let first = first.unwrap_or_else(|| first_baseline(&p, opts, n_eff));
         let (own, s) = prediction_spread(rec, name, protocol, &p, &first.model);
         match opts.leave_out_unresolved {
             Some(floor) => p.leave_out(&unresolved_by_spread(&p, &own, &s, floor)),
@@ -2028,7 +2061,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
 /// The record prepared for the diagnosis: with the protocol's filters, and where the position
 /// reading's count is coarser than the protocol's reference, also with the lower position
 /// cutoff that count calls for ([`inverse::position_cutoff_for_count`]); of the two, the one
-/// whose first baseline ([`baseline`]) errs less on the samples both score. A lower cutoff
+/// whose first baseline ([`first_baseline`]) errs less on the samples both score. A lower cutoff
 /// takes out quantisation noise and, on a fast axis, motion the model needs: which weighs more
 /// depends on the record. (On the calibration records read through a 5 um count, `axis_suite 5
 /// 30 --calibration --encoder-um 5`, a fixed 50 Hz took the baseline's error from 2.13 to
@@ -2060,7 +2093,7 @@ pub fn prepare(
         _ => return Ok((p, protocol, None)),
     };
     let first = |p: &Prepared| {
-        baseline(
+        first_baseline(
             p,
             opts,
             fit::effective_samples(p, protocol.parallel_cutoff_hz),
