@@ -831,6 +831,11 @@ pub fn static_seed(p: &Prepared, fixed_mass: Option<f64>) -> AxisModel {
 /// ([`stribeck_range`], [`BRISTLE_STIFFNESS_RANGE`]), twice in turn. A parameter the record does
 /// not determine is held at a documented prior and listed in [`fit::Flags::priors`].
 pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
+    baseline_searched(p, opts, n_eff, 2, true)
+}
+
+/// [`baseline`] with `rounds` rounds of the nonlinear search, the last refined where `refine`.
+fn baseline_searched(p: &Prepared, opts: &Options, n_eff: f64, rounds: usize, refine: bool) -> Fit {
     let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
     if let Some(g) = &opts.given {
         let plain = AxisModel {
@@ -839,9 +844,8 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
         };
         return fit::refit(&plain, p, fixed_mass, n_eff);
     }
-    let seed = static_seed(p, fixed_mass);
-    let seeded = fit::refit(&seed, p, fixed_mass, n_eff);
-    polish(&seeded, None, p, fixed_mass, n_eff, 2, true)
+    let seeded = fit::refit(&static_seed(p, fixed_mass), p, fixed_mass, n_eff);
+    polish_rounds(&seeded, None, p, fixed_mass, n_eff, rounds, true, refine)
 }
 
 /// The first baseline of a weighted diagnosis: it only sets the motion weights
@@ -853,12 +857,7 @@ pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
 /// baseline searches again from the static table ([`baseline`]). It takes a 60 s record's
 /// diagnosis to 0.81 of its time (session 36, `diagnose_timing 1000 1001`).
 pub fn first_baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
-    if opts.given.is_some() {
-        return baseline(p, opts, n_eff);
-    }
-    let fixed_mass = opts.mass_kg;
-    let seeded = fit::refit(&static_seed(p, fixed_mass), p, fixed_mass, n_eff);
-    polish_rounds(&seeded, None, p, fixed_mass, n_eff, 1, true, false)
+    baseline_searched(p, opts, n_eff, 1, false)
 }
 
 /// Mass and sigma1 whose 95 % interval reaches zero are not determined by the record. The mass
@@ -920,7 +919,8 @@ pub fn polish(
     )
 }
 
-/// [`polish`], whose last round ends with the continuous refinement only where `refine`.
+/// [`polish`], whose last round ends with the continuous refinement only where `refine` (which
+/// [`polish`] sets with `stiffness`).
 fn polish_rounds(
     current: &Fit,
     effect: Option<EffectKind>,
@@ -941,7 +941,7 @@ fn polish_rounds(
         for which in searched {
             // the last round of a full polish (a stage's model, not a candidate's quick re-judging)
             // ends with a continuous refinement
-            let refined = refine && stiffness && round + 1 == rounds;
+            let refined = refine && round + 1 == rounds;
             let f = search_one(*which, &best, p, fixed_mass, n_eff, refined);
             // on the last round a parameter the record does not determine goes to its prior
             // (the profile is flat: the fit changes by less than the 95 % threshold)
