@@ -201,7 +201,7 @@ pub fn residual_effective_samples(p: &Prepared, filtered: &[f64]) -> f64 {
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
 /// `fixed_mass` keeps M as given.
 pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
-    refit_iterations(seed, p, fixed_mass, None, n_eff, 8)
+    refit_iterations(seed, p, fixed_mass, None, n_eff, 8, Jacobian::Rebuilt)
 }
 
 /// [`refit`] with the viscous coefficient held at `viscous_n_s_per_m` \[N s/m\] (it leaves the
@@ -214,13 +214,36 @@ pub fn refit_holding_viscous(
     viscous_n_s_per_m: f64,
     n_eff: f64,
 ) -> Fit {
-    refit_iterations(seed, p, fixed_mass, Some(viscous_n_s_per_m), n_eff, 8)
+    refit_iterations(
+        seed,
+        p,
+        fixed_mass,
+        Some(viscous_n_s_per_m),
+        n_eff,
+        8,
+        Jacobian::Rebuilt,
+    )
 }
 
-/// A cheaper refit for grid searches (at most 3 Levenberg-Marquardt iterations: enough to
-/// rank grid points; the winner is then finished with [`refit`]).
+/// A cheaper refit for grid searches: at most 3 Levenberg-Marquardt iterations, the Jacobian
+/// built once and moved to each accepted model (chord steps): enough to rank grid points; the
+/// winner is then finished with [`refit`]. (Building the columns was half of a diagnosis's CPU
+/// time; chord steps cut the diagnosis's time to 0.76 of Gauss-Newton's, with the same answer
+/// on every one of 200 independent records, session 37.)
 pub fn refit_quick(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
-    refit_iterations(seed, p, fixed_mass, None, n_eff, 3)
+    refit_iterations(seed, p, fixed_mass, None, n_eff, 3, Jacobian::Frozen)
+}
+
+/// How a refit's Jacobian follows an accepted step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Jacobian {
+    /// Its columns simulated and filtered again about the new model (Gauss-Newton).
+    Rebuilt,
+    /// The first model's columns kept, the linearisation moved to the new model
+    /// ([`reanchor`]): a chord step. Building the columns (a sensitivity simulation and a
+    /// filter pass per parameter) took half of the diagnosis's CPU time (perf, session 36);
+    /// a refit's steps move its columns little.
+    Frozen,
 }
 
 fn refit_iterations(
@@ -230,6 +253,7 @@ fn refit_iterations(
     held_viscous: Option<f64>,
     n_eff: f64,
     iterations: usize,
+    jacobian: Jacobian,
 ) -> Fit {
     let mut model = *seed;
     if let Some(m) = fixed_mass {
@@ -290,7 +314,10 @@ fn refit_iterations(
             rss = next_rss;
             sim = next_sim;
             pred = next_pred;
-            lin = None;
+            match (jacobian, lin.as_mut()) {
+                (Jacobian::Frozen, Some(l)) => reanchor(l, &model, &pred, p, fixed_mass),
+                _ => lin = None,
+            }
             estimates = est;
             mu = (mu / 10.0).max(1e-9);
             if gain < 1e-5 {
@@ -694,19 +721,14 @@ fn linearise<'p>(
         .collect();
     // Gauss-Newton: force ~ model0 + J (theta - theta0), so regress
     // force - (model0 - J theta0) on J. Terms outside J (a fixed mass) stay in model0, and
-    // bilinear terms (rc Fc, rv sigma2) are linearised correctly. The filter is linear: the
-    // filtered model0 is the prediction the fit already scored, less the filtered columns.
+    // bilinear terms (rc Fc, rv sigma2) are linearised correctly.
     let theta0: Vec<f64> = params.iter().map(|q| theta_of(m, *q)).collect();
-    let mut offset_f = vec![0.0; n];
-    for_each_combination(&cols_f, &theta0, n, |i, j_theta0| {
-        offset_f[i] = prediction[i] - j_theta0;
-    });
+    let target = gauss_newton_target(&cols_f, &theta0, prediction, p);
     for c in cols_f.iter_mut() {
         if c.iter().any(|v| !v.is_finite()) {
             c.to_mut().iter_mut().for_each(|v| *v = 0.0);
         }
     }
-    let target: Vec<f64> = p.force.iter().zip(&offset_f).map(|(f, q)| f - q).collect();
 
     // Scaled normal equations (robust to a column that carries nothing: an all-zero column,
     // e.g. the viscous asymmetry of a model with sigma2 = 0, gets scale 1, not a tiny floor
@@ -725,7 +747,6 @@ fn linearise<'p>(
     // One pass over the (strided) samples accumulates every product: the columns are read
     // once, not once per pair. Each sum runs in sample order from -0.0, as `Iterator::sum`.
     let mut sums = vec![-0.0; k * (k + 1) / 2];
-    let mut sums_y = vec![-0.0; k];
     let mut row = vec![0.0; k];
     for i in (0..n).step_by(LS_STRIDE) {
         for (r, c) in row.iter_mut().zip(&cols_f) {
@@ -738,11 +759,9 @@ fn linearise<'p>(
                 sums[at] += wa * rb;
                 at += 1;
             }
-            sums_y[a] += wa * target[i];
         }
     }
     let mut xtx = DMatrix::<f64>::zeros(k, k);
-    let mut xty = DVector::<f64>::zeros(k);
     let mut at = 0;
     for a in 0..k {
         for b in a..k {
@@ -751,8 +770,8 @@ fn linearise<'p>(
             xtx[(b, a)] = s;
             at += 1;
         }
-        xty[a] = sums_y[a] * LS_STRIDE as f64 / scale[a];
     }
+    let xty = normal_rhs(&cols_f, &target, &scale, p);
     let n_scored = p.scored_weight();
     Linearisation {
         model: *m,
@@ -769,6 +788,64 @@ fn linearise<'p>(
         n_scored,
         inflation: n_scored / n_eff,
     }
+}
+
+/// The filtered Gauss-Newton target `force - (model0 - J theta0)` \[N\]. The filter is linear:
+/// the filtered model0 is the prediction the fit already scored (`prediction`, filtered),
+/// less the filtered columns `cols_f` at `theta0`.
+fn gauss_newton_target(
+    cols_f: &[Cow<'_, [f64]>],
+    theta0: &[f64],
+    prediction: &[f64],
+    p: &Prepared,
+) -> Vec<f64> {
+    let mut target = vec![0.0; p.len()];
+    for_each_combination(cols_f, theta0, p.len(), |i, j_theta0| {
+        target[i] = p.force[i] - (prediction[i] - j_theta0);
+    });
+    target
+}
+
+/// The scaled right-hand side `J' W y` of the normal equations over the strided samples, each
+/// sum in sample order from -0.0.
+fn normal_rhs(
+    cols_f: &[Cow<'_, [f64]>],
+    target: &[f64],
+    scale: &[f64],
+    p: &Prepared,
+) -> DVector<f64> {
+    let mut sums_y = vec![-0.0; cols_f.len()];
+    for i in (0..p.len()).step_by(LS_STRIDE) {
+        for (s, c) in sums_y.iter_mut().zip(cols_f) {
+            *s += p.weight[i] * c[i] * target[i];
+        }
+    }
+    DVector::from_iterator(
+        cols_f.len(),
+        sums_y
+            .iter()
+            .zip(scale)
+            .map(|(s, sc)| s * LS_STRIDE as f64 / sc),
+    )
+}
+
+/// A linearisation moved to the model `m` (of the same structure) without building its columns
+/// again: the columns, the normal matrix and the standard errors' covariance stay those of the
+/// model first linearised about (a frozen Jacobian, as in a chord method), while the point
+/// `theta0`, the target from `m`'s filtered `prediction`, the right-hand side and the bounds
+/// are `m`'s. The next step solves the same normal equations for the new residual.
+fn reanchor(
+    lin: &mut Linearisation<'_>,
+    m: &AxisModel,
+    prediction: &[f64],
+    p: &Prepared,
+    fixed_mass: Option<f64>,
+) {
+    lin.theta0 = lin.params.iter().map(|q| theta_of(m, *q)).collect();
+    lin.target = gauss_newton_target(&lin.cols_f, &lin.theta0, prediction, p);
+    lin.xty = normal_rhs(&lin.cols_f, &lin.target, &lin.scale, p);
+    lin.bounds = Bounds::of(m, p, fixed_mass);
+    lin.model = *m;
 }
 
 /// Hands `each(i, sum_j coef[j] cols[j][i])` every sample `i < n`, in sample order. The columns
@@ -1271,5 +1348,111 @@ mod grid_tests {
             });
             assert_eq!(seen, n);
         }
+    }
+}
+
+#[cfg(test)]
+mod chord_tests {
+    use super::*;
+    use crate::diagnose::inverse::Protocol;
+    use crate::record::Record;
+    use lugre_servo::friction::FrictionModel;
+
+    /// 12 s at 1 kHz on a 1 um count: sinusoids of 8..40 mm/s amplitude (reversals), each
+    /// followed by a rest of 0.3 s, the force `truth`'s prediction along that motion plus a
+    /// deterministic ripple of 2 N.
+    fn record_of(truth: &AxisModel) -> Prepared {
+        let dt = 1e-3;
+        let (mut x, mut t_move) = (0.0f64, 0.0f64);
+        let xs: Vec<f64> = (0..12_000)
+            .map(|i| {
+                let cycle = i / 2000;
+                let within = i % 2000;
+                if within < 1700 {
+                    let amp_v = 8e-3 + 8e-3 * cycle as f64;
+                    x += amp_v * (std::f64::consts::TAU * t_move / 1.7).sin() * dt;
+                    t_move += dt;
+                } else {
+                    t_move = 0.0;
+                }
+                (x * 1e6).round() * 1e-6
+            })
+            .collect();
+        let text_with = |force: &dyn Fn(usize) -> f64| {
+            let mut text = String::from("t,x,force\n");
+            for (i, x) in xs.iter().enumerate() {
+                text.push_str(&format!("{:.3},{x:.7},{:.4}\n", i as f64 * dt, force(i)));
+            }
+            Record::parse(&text, std::path::Path::new("r.csv")).unwrap()
+        };
+        // the motion prepared once to predict along it (a record of zero force is refused)
+        let motion = Prepared::new(&text_with(&|_| 1.0), "r.csv", Protocol::default()).unwrap();
+        let force = truth.predict(&motion);
+        let ripple = |i: usize| 2.0 * (i as f64 * 0.37).sin();
+        let rec = text_with(&|i| force[i] + ripple(i));
+        Prepared::new(&rec, "r.csv", Protocol::default()).unwrap()
+    }
+
+    fn truth() -> AxisModel {
+        AxisModel {
+            mass_kg: 150.0,
+            friction: FrictionModel::plain(
+                LugreParams::new(2e7, 3e3, 900.0, 300.0, 420.0, 6e-3).unwrap(),
+            ),
+        }
+    }
+
+    /// A linearisation moved to the model it was built about is that linearisation bit for
+    /// bit: the re-anchoring shares the target and the right-hand side with the build.
+    #[test]
+    fn a_linearisation_reanchored_where_it_was_built_is_unchanged() {
+        let p = record_of(&truth());
+        let m = truth();
+        let decay = m.stribeck_decay(&p);
+        let sim = m.simulate_with_decay(&p, &decay);
+        let pred = p.filter(&m.predict(&p));
+        let built = linearise(&m, &sim, &pred, &decay, &p, None, None, 50.0);
+        let mut moved = linearise(&m, &sim, &pred, &decay, &p, None, None, 50.0);
+        reanchor(&mut moved, &m, &pred, &p, None);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&built.target), bits(&moved.target));
+        assert_eq!(bits(built.xty.as_slice()), bits(moved.xty.as_slice()));
+        assert_eq!(bits(&built.theta0), bits(&moved.theta0));
+        // and a rhs that is not trivially zero
+        assert!(built.xty.iter().any(|v| v.abs() > 1e-6));
+    }
+
+    /// From levels 20..25 % off (21 % of error), three chord steps (the Jacobian built once)
+    /// reach what three Gauss-Newton steps reach, within 2 % of the error: the frozen columns
+    /// still point the later steps the right way.
+    #[test]
+    fn chord_steps_reach_what_gauss_newton_steps_reach() {
+        let t = truth();
+        let p = record_of(&t);
+        let q = t.friction.params;
+        let seed = AxisModel {
+            mass_kg: 0.8 * t.mass_kg,
+            friction: FrictionModel::plain(
+                q.with_levels(
+                    1.25 * q.viscous_coefficient(),
+                    0.75 * q.coulomb_force(),
+                    0.8 * q.static_force(),
+                )
+                .unwrap(),
+            ),
+        };
+        let start = p.rel_err_pct(&seed.predict(&p));
+        let rebuilt = refit_iterations(&seed, &p, None, None, 50.0, 3, Jacobian::Rebuilt);
+        let chord = refit_iterations(&seed, &p, None, None, 50.0, 3, Jacobian::Frozen);
+        let one = refit_iterations(&seed, &p, None, None, 50.0, 1, Jacobian::Rebuilt);
+        eprintln!(
+            "start {start:.3} %, one step {:.4} %, rebuilt {:.4} %, chord {:.4} %",
+            one.rel_err_pct, rebuilt.rel_err_pct, chord.rel_err_pct
+        );
+        assert!(start > 10.0, "{start}");
+        // the later chord steps work (one step leaves 0.64 %, three 0.10 %), and as well as
+        // Gauss-Newton's within 2 % of the error (measured 1.1 %)
+        assert!(chord.rel_err_pct < 0.5 * one.rel_err_pct);
+        assert!(chord.rel_err_pct <= 1.02 * rebuilt.rel_err_pct);
     }
 }
