@@ -226,10 +226,12 @@ pub fn refit_holding_viscous(
 }
 
 /// A cheaper refit for grid searches: at most 3 Levenberg-Marquardt iterations, the Jacobian
-/// built once and moved to each accepted model (chord steps): enough to rank grid points; the
-/// winner is then finished with [`refit`]. (Building the columns was half of a diagnosis's CPU
-/// time; chord steps cut the diagnosis's time to 0.76 of Gauss-Newton's, with the same answer
-/// on every one of 200 independent records, session 37.)
+/// built once and moved to each accepted model (chord steps): enough to rank grid points. Its
+/// standard errors are those of the columns at `seed` (the mass and sigma1 intervals that
+/// decide whether they are held at zero, `diagnose::mark_unidentified_linear`); an effect's
+/// grid winner is finished with [`refit`]. (Building the columns was half of a diagnosis's
+/// CPU time; chord steps cut the diagnosis's time to 0.76 of Gauss-Newton's, with the same
+/// answer on every one of 200 independent records, session 37.)
 pub fn refit_quick(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
     refit_iterations(seed, p, fixed_mass, None, n_eff, 3, Jacobian::Frozen)
 }
