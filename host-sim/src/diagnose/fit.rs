@@ -725,7 +725,8 @@ fn linearise<'p>(
     // force - (model0 - J theta0) on J. Terms outside J (a fixed mass) stay in model0, and
     // bilinear terms (rc Fc, rv sigma2) are linearised correctly.
     let theta0: Vec<f64> = params.iter().map(|q| theta_of(m, *q)).collect();
-    let target = gauss_newton_target(&cols_f, &theta0, prediction, p);
+    let mut target = vec![0.0; n];
+    gauss_newton_target(&mut target, &cols_f, &theta0, prediction, p);
     for c in cols_f.iter_mut() {
         if c.iter().any(|v| !v.is_finite()) {
             c.to_mut().iter_mut().for_each(|v| *v = 0.0);
@@ -792,20 +793,19 @@ fn linearise<'p>(
     }
 }
 
-/// The filtered Gauss-Newton target `force - (model0 - J theta0)` \[N\]. The filter is linear:
-/// the filtered model0 is the prediction the fit already scored (`prediction`, filtered),
-/// less the filtered columns `cols_f` at `theta0`.
+/// The filtered Gauss-Newton target `force - (model0 - J theta0)` \[N\], into `target` (one
+/// per sample). The filter is linear: the filtered model0 is the prediction the fit already
+/// scored (`prediction`, filtered), less the filtered columns `cols_f` at `theta0`.
 fn gauss_newton_target(
+    target: &mut [f64],
     cols_f: &[Cow<'_, [f64]>],
     theta0: &[f64],
     prediction: &[f64],
     p: &Prepared,
-) -> Vec<f64> {
-    let mut target = vec![0.0; p.len()];
+) {
     for_each_combination(cols_f, theta0, p.len(), |i, j_theta0| {
         target[i] = p.force[i] - (prediction[i] - j_theta0);
     });
-    target
 }
 
 /// The scaled right-hand side `J' W y` of the normal equations over the strided samples, each
@@ -844,7 +844,8 @@ fn reanchor(
     fixed_mass: Option<f64>,
 ) {
     lin.theta0 = lin.params.iter().map(|q| theta_of(m, *q)).collect();
-    lin.target = gauss_newton_target(&lin.cols_f, &lin.theta0, prediction, p);
+    // written over the previous target: no new buffer per step
+    gauss_newton_target(&mut lin.target, &lin.cols_f, &lin.theta0, prediction, p);
     lin.xty = normal_rhs(&lin.cols_f, &lin.target, &lin.scale, p);
     lin.bounds = Bounds::of(m, p, fixed_mass);
     lin.model = *m;

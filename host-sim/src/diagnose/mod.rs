@@ -831,11 +831,11 @@ pub fn static_seed(p: &Prepared, fixed_mass: Option<f64>) -> AxisModel {
 /// ([`stribeck_range`], [`BRISTLE_STIFFNESS_RANGE`]), twice in turn. A parameter the record does
 /// not determine is held at a documented prior and listed in [`fit::Flags::priors`].
 pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
-    baseline_searched(p, opts, n_eff, 2, true)
+    baseline_searched(p, opts, n_eff, Search::STAGE)
 }
 
-/// [`baseline`] with `rounds` rounds of the nonlinear search, the last refined where `refine`.
-fn baseline_searched(p: &Prepared, opts: &Options, n_eff: f64, rounds: usize, refine: bool) -> Fit {
+/// [`baseline`] with the nonlinear search `search`.
+fn baseline_searched(p: &Prepared, opts: &Options, n_eff: f64, search: Search) -> Fit {
     let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
     if let Some(g) = &opts.given {
         let plain = AxisModel {
@@ -845,7 +845,7 @@ fn baseline_searched(p: &Prepared, opts: &Options, n_eff: f64, rounds: usize, re
         return fit::refit(&plain, p, fixed_mass, n_eff);
     }
     let seeded = fit::refit(&static_seed(p, fixed_mass), p, fixed_mass, n_eff);
-    polish_rounds(&seeded, None, p, fixed_mass, n_eff, rounds, true, refine)
+    polish(&seeded, None, p, fixed_mass, n_eff, search)
 }
 
 /// The first baseline of a weighted diagnosis: it only sets the motion weights
@@ -857,7 +857,7 @@ fn baseline_searched(p: &Prepared, opts: &Options, n_eff: f64, rounds: usize, re
 /// baseline searches again from the static table ([`baseline`]). It takes a 60 s record's
 /// diagnosis to 0.81 of its time (session 36, `diagnose_timing 1000 1001`).
 pub fn first_baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
-    baseline_searched(p, opts, n_eff, 1, false)
+    baseline_searched(p, opts, n_eff, Search::FIRST_BASELINE)
 }
 
 /// Mass and sigma1 whose 95 % interval reaches zero are not determined by the record. The mass
@@ -900,37 +900,58 @@ fn mark_unidentified_linear(f: &mut Fit, p: &Prepared, fixed_mass: Option<f64>, 
     }
 }
 
+/// How far a search of the nonlinear parameters goes ([`polish`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Search {
+    /// Rounds of the alternating search.
+    pub rounds: usize,
+    /// Whether sigma0 is searched as well as vs.
+    pub stiffness: bool,
+    /// Whether the last round ends with the continuous refinement of vs and sigma0 (to
+    /// [`REFINE_TOLERANCE_LN`]).
+    pub refine: bool,
+}
+
+impl Search {
+    /// A stage's model (and the weighted baseline): vs and sigma0, two rounds, refined.
+    pub const STAGE: Self = Self {
+        rounds: 2,
+        stiffness: true,
+        refine: true,
+    };
+    /// A leading candidate re-judged in a ranking: vs once, not refined.
+    pub const LEADER: Self = Self {
+        rounds: 1,
+        stiffness: false,
+        refine: false,
+    };
+    /// The first baseline, which only sets the motion weights ([`first_baseline`]): vs and
+    /// sigma0 once, not refined.
+    pub const FIRST_BASELINE: Self = Self {
+        rounds: 1,
+        stiffness: true,
+        refine: false,
+    };
+}
+
 /// Re-searches the nonlinear parameters of an extended model within their bounds: the
-/// Stribeck velocity (and, with `stiffness`, sigma0), then the added effect's own nonlinear
-/// parameter, alternating `rounds` times. The symmetric baseline's values are biased when an
-/// effect was missing (it bends its Stribeck curve to mimic the effect), so an effect is only
-/// judged fairly once they have moved.
+/// Stribeck velocity (and, with [`Search::stiffness`], sigma0), then the added effect's own
+/// nonlinear parameter, alternating [`Search::rounds`] times. The symmetric baseline's values
+/// are biased when an effect was missing (it bends its Stribeck curve to mimic the effect), so
+/// an effect is only judged fairly once they have moved.
 pub fn polish(
     current: &Fit,
     effect: Option<EffectKind>,
     p: &Prepared,
     fixed_mass: Option<f64>,
     n_eff: f64,
-    rounds: usize,
-    stiffness: bool,
+    search: Search,
 ) -> Fit {
-    polish_rounds(
-        current, effect, p, fixed_mass, n_eff, rounds, stiffness, stiffness,
-    )
-}
-
-/// [`polish`], whose last round ends with the continuous refinement only where `refine` (which
-/// [`polish`] sets with `stiffness`).
-fn polish_rounds(
-    current: &Fit,
-    effect: Option<EffectKind>,
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-    rounds: usize,
-    stiffness: bool,
-    refine: bool,
-) -> Fit {
+    let Search {
+        rounds,
+        stiffness,
+        refine,
+    } = search;
     let mut best = current.clone();
     let searched: &[Nonlinear] = if stiffness {
         &[Nonlinear::StribeckVelocity, Nonlinear::BristleStiffness]
@@ -1261,7 +1282,7 @@ fn settle_close_call(
     polish_again(
         out,
         &contenders,
-        (2, true),
+        Search::STAGE,
         p,
         brk,
         &reference,
@@ -1297,14 +1318,14 @@ fn verdict_samples(out: &[Candidate], p: &Prepared, n_eff: f64) -> f64 {
         })
 }
 
-/// The candidates at `which` searched again ([`polish`] with `rounds` and `stiffness`), side by
+/// The candidates at `which` searched again ([`polish`] with `search`), side by
 /// side; each fit kept where it scores better and judged again against `reference` on `n_judge`
 /// effective samples.
 #[allow(clippy::too_many_arguments)]
 fn polish_again(
     out: &mut [Candidate],
     which: &[usize],
-    (rounds, stiffness): (usize, bool),
+    search: Search,
     p: &Prepared,
     brk: &Breakaway,
     reference: &Current,
@@ -1317,10 +1338,7 @@ fn polish_again(
         .filter_map(|&i| {
             let f = out[i].fit.as_ref()?;
             let kind = out[i].kind;
-            Some((
-                i,
-                polish(f, Some(kind), p, fixed_mass, n_eff, rounds, stiffness),
-            ))
+            Some((i, polish(f, Some(kind), p, fixed_mass, n_eff, search)))
         })
         .collect();
     for (i, f) in polished {
@@ -1403,7 +1421,7 @@ fn rank_among(
     polish_again(
         &mut out,
         &leaders,
-        (1, false),
+        Search::LEADER,
         p,
         brk,
         &reference,
@@ -2143,7 +2161,7 @@ fn stage_fit(
     n_eff: f64,
 ) -> Fit {
     let (from_candidate, from_table) = rayon::join(
-        || polish(candidate, Some(e), p, fixed_mass, n_eff, 2, true),
+        || polish(candidate, Some(e), p, fixed_mass, n_eff, Search::STAGE),
         || from_static_table(e, candidate, p, fixed_mass, n_eff),
     );
     if from_table.rss < from_candidate.rss {
@@ -2215,7 +2233,7 @@ fn from_static_table(
     let mut restart = static_seed(p, fixed_mass);
     restart.friction.effects = candidate.model.friction.effects;
     let restart = fit::refit(&restart, p, fixed_mass, n_eff);
-    polish(&restart, Some(e), p, fixed_mass, n_eff, 2, true)
+    polish(&restart, Some(e), p, fixed_mass, n_eff, Search::STAGE)
 }
 
 fn stage(
