@@ -6,7 +6,9 @@
 //!
 //! `cargo run --release -p host-sim --example diagnose_timing -- [SEED ...] [--json F]`
 //! (default seeds 1000..1004: 45 records, the ones `axis_suite 0 0 --write DIR --seed N` writes).
-//! Prints each record's wall time, then the median, the maximum and how many took over 5 s;
+//! Prints each record's wall time (and of it the two baselines', the candidates' and the nested
+//! check's, `diagnose::PhaseTimes`; every phase in the JSON), then the median, the maximum and
+//! how many took over 5 s;
 //! `--json F` writes the same; `--encoder-um R`, `--noise-x K` and `--log-hz F` measure every
 //! record through other sensors (`Sensors::from_args`; a coarse count makes the diagnosis fit a
 //! second first baseline, `diagnose::prepare`). Generating a record is not timed. The machine
@@ -35,6 +37,8 @@ struct Row {
     restarts: usize,
     /// the first significant candidate, if any
     first_significant: Option<String>,
+    /// where the diagnosis spent its time (its own clock: without parsing the CSV)
+    phases: diagnose::PhaseTimes,
 }
 
 #[derive(serde::Serialize)]
@@ -66,8 +70,8 @@ fn main() {
         seeds = (1000..=1004).collect();
     }
     println!(
-        "{:<24} {:>5} {:>8} {:>8}  first significant",
-        "record", "seed", "seconds", "restarts"
+        "{:<24} {:>5} {:>8} {:>8} {:>8} {:>8} {:>8}  first significant",
+        "record", "seed", "seconds", "baseline", "cands", "nested", "restarts"
     );
     let mut rows = Vec::new();
     for &seed in &seeds {
@@ -85,8 +89,12 @@ fn main() {
                 .find(|c| c.significant)
                 .map(|c| c.kind.name().to_string());
             let restarts = d.stages[0].restarts.len();
+            let t = d.times;
             println!(
-                "{name:<24} {seed:>5} {seconds:>8.2} {restarts:>8}  {}",
+                "{name:<24} {seed:>5} {seconds:>8.2} {:>8.2} {:>8.2} {:>8.2} {restarts:>8}  {}",
+                t.first_baseline_s + t.baseline_s,
+                t.candidates_s,
+                t.nested_s,
                 first_significant.as_deref().unwrap_or("-")
             );
             rows.push(Row {
@@ -95,6 +103,7 @@ fn main() {
                 seconds,
                 restarts,
                 first_significant,
+                phases: t,
             });
         }
     }

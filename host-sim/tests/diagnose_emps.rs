@@ -19,8 +19,11 @@ fn asymmetry_comes_first_and_brings_the_error_below_3p2_percent() {
         add: vec!["asymmetry".into()],
         ..Default::default()
     };
+    let wall = std::time::Instant::now();
     let d = diagnose::diagnose(&est, "emps_estimation.csv", &opts).unwrap();
+    let wall_s = wall.elapsed().as_secs_f64();
     let base = &d.stages[0];
+    phases_account_for_the_time(&d, wall_s);
     assert_eq!(base.candidates[0].kind.name(), "asymmetry");
     assert!(base.candidates[0].significant);
     let after = d.stages[1].fit.rel_err_pct;
@@ -47,4 +50,39 @@ fn asymmetry_comes_first_and_brings_the_error_below_3p2_percent() {
         "M = {}",
         d.model().mass_kg
     );
+}
+
+/// The diagnosis's own clock (`diagnose::PhaseTimes`): no phase negative, none counted twice
+/// (their sum within the total), the total within the caller's wall clock, and the phases this
+/// diagnosis ran (two baselines, a ranking, the stage fit of the effect added) took time.
+fn phases_account_for_the_time(d: &diagnose::Diagnosis, wall_s: f64) {
+    let t = d.times;
+    println!("EMPS diagnosis: {t} (wall {wall_s:.2} s)");
+    let phases = [
+        t.first_baseline_s,
+        t.baseline_s,
+        t.candidates_s,
+        t.nested_s,
+        t.restarts_s,
+        t.close_calls_s,
+        t.stage_fits_s,
+    ];
+    assert!(phases.iter().all(|s| *s >= 0.0), "{t:?}");
+    assert!(t.other_s() >= 0.0, "phases overlap: {t:?}");
+    assert!(
+        t.total_s <= wall_s,
+        "{} s against the wall's {wall_s} s",
+        t.total_s
+    );
+    assert!(
+        t.first_baseline_s > 0.0 && t.baseline_s > 0.0 && t.candidates_s > 0.0,
+        "{t:?}"
+    );
+    // the asymmetry leads, so no parsimony check fitted it as a stage before it was added
+    assert!(
+        t.stage_fits_s > 0.0,
+        "the added asymmetry's stage fit: {t:?}"
+    );
+    // what no phase covers (tables, departures, regimes) is a small share
+    assert!(t.other_s() < 0.1 * t.total_s, "{t:?}");
 }

@@ -104,6 +104,8 @@ pub struct JsonOut<'a> {
     /// The final model's effect parameters that ended at an edge of their search range
     /// (`diagnose::effect_search_edges`): the fit may want a value beyond it.
     pub search_edges: Vec<diagnose::SearchEdge>,
+    /// Where the diagnosis spent its time \[s\] (`diagnose::PhaseTimes`).
+    pub times: diagnose::PhaseTimes,
 }
 
 /// Runs the subcommand.
@@ -199,6 +201,7 @@ pub fn run(a: &Args) -> Result<()> {
             position_cutoff_hz: d.prepared.position_cutoff_hz,
             notes: &d.prepared.notes,
             search_edges: diagnose::effect_search_edges(&last.fit.model),
+            times: d.times,
         };
         super::write_json(path, &out)?;
     }
@@ -497,4 +500,5 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
         d.effective_samples,
         wall_s
     );
+    println!("(where the diagnosis's time went: {})", d.times);
 }
