@@ -484,7 +484,8 @@ pub struct PhaseTimes {
 }
 
 impl PhaseTimes {
-    /// What no phase covers \[s\]: the static tables, the departures from rest, the regimes.
+    /// What no phase covers \[s\]: the static tables, the departures from rest, the regimes
+    /// (and, scored unweighted, the motion reading's spread about the baseline).
     pub fn other_s(&self) -> f64 {
         self.total_s
             - (self.first_baseline_s
@@ -2333,7 +2334,6 @@ fn from_static_table(
     polish(&restart, Some(e), p, fixed_mass, n_eff, Search::STAGE)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn stage(
     effect: Option<EffectKind>,
     fit: Fit,
