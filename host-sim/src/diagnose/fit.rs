@@ -269,9 +269,18 @@ fn refit_iterations(
     }
     // the levels move, vs and the shape do not: the Stribeck decay is evaluated once
     let decay = model.stribeck_decay(p);
-    // score a model: (weighted RSS, its simulation, its prediction)
-    let score = |m: &AxisModel| {
-        let sim = m.simulate_with_decay(p, &decay);
+    // score a model: (weighted RSS, its simulation, its prediction). Only a model the
+    // columns are built about needs the whole simulation; a chord step's (its columns kept,
+    // `Jacobian::Frozen`) needs the friction alone.
+    let score = |m: &AxisModel, linearised_about: bool| {
+        let sim = if linearised_about {
+            m.simulate_with_decay(p, &decay)
+        } else {
+            Simulation {
+                friction: m.friction_with_decay(p, &decay),
+                ..Simulation::default()
+            }
+        };
         let pred: Vec<f64> =
             p.a.iter()
                 .zip(&sim.friction)
@@ -288,7 +297,7 @@ fn refit_iterations(
     // The linearised step can overshoot where two effects are nearly collinear (an offset and
     // a direction-dependent Coulomb level differ only while stuck): an iterate is accepted only
     // if the real model scores better.
-    let (mut rss, mut sim, mut pred) = score(&model);
+    let (mut rss, mut sim, mut pred) = score(&model, true);
     let mut estimates = Vec::new();
     // Levenberg-Marquardt damping mu (relative to the diagonal of J'J): raised tenfold when
     // an iterate scores worse, lowered after a success.
@@ -309,7 +318,8 @@ fn refit_iterations(
             )
         });
         let (next, est) = linear_step(l, p, mu);
-        let (next_rss, next_sim, next_pred) = score(&next);
+        // a chord step's linearisation is moved, never built again, about the model it reaches
+        let (next_rss, next_sim, next_pred) = score(&next, jacobian == Jacobian::Rebuilt);
         if next_rss <= rss {
             let gain = (rss - next_rss) / rss.max(1e-300);
             model = next;
@@ -566,6 +576,12 @@ fn linearise<'p>(
     n_eff: f64,
 ) -> Linearisation<'p> {
     let n = p.len();
+    // the columns read the whole simulation, not a chord step's friction alone
+    debug_assert_eq!(
+        sim.bristle.len(),
+        n,
+        "linearised about a friction-only simulation"
+    );
     let fr = &m.friction;
     let e = &fr.effects;
     let (fc, fs, s2) = (

@@ -518,8 +518,9 @@ pub struct AxisModel {
 /// minute-long records a diagnosis fits hundreds of times. (Not tuned: the 60 s records split.)
 const MIN_SPLIT_SAMPLES: usize = 4000;
 
-/// What the friction model did along the measured motion.
-#[derive(Clone, Debug)]
+/// What the friction model did along the measured motion (from
+/// [`AxisModel::friction_with_decay`], the friction alone, the other fields empty).
+#[derive(Clone, Debug, Default)]
 pub struct Simulation {
     /// Friction force \[N\] (including the offset).
     pub friction: Vec<f64>,
@@ -529,6 +530,15 @@ pub struct Simulation {
     pub dwell: Vec<f64>,
     /// Bristle deflection rate dz/dt [m/s] (what sigma1 multiplies).
     pub deflection_rate: Vec<f64>,
+}
+
+/// What a simulation along the record keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Outputs {
+    /// Every [`Simulation`] field.
+    All,
+    /// The friction force alone (the other fields empty).
+    FrictionOnly,
 }
 
 impl AxisModel {
@@ -541,7 +551,7 @@ impl AxisModel {
     /// stale deflection a dwell term absorbed up to 60 % of effect-free records' errors at
     /// their departures (calibration seeds 100..199, session 24; README).
     pub fn simulate(&self, p: &Prepared) -> Simulation {
-        self.simulate_given(p, None)
+        self.simulate_given(p, None, Outputs::All)
     }
 
     /// The Stribeck decay `s(v)` of this model at each sample's step velocity (see
@@ -558,23 +568,43 @@ impl AxisModel {
     /// with the same `vs` and shape; the result is the same bit for bit): a fit that moves
     /// only the levels evaluates it once, not once per model.
     pub fn simulate_with_decay(&self, p: &Prepared, stribeck_decay: &[f64]) -> Simulation {
-        self.simulate_given(p, Some(stribeck_decay))
+        self.simulate_given(p, Some(stribeck_decay), Outputs::All)
     }
 
-    fn simulate_given(&self, p: &Prepared, stribeck_decay: Option<&[f64]>) -> Simulation {
+    /// [`Self::simulate_with_decay`]'s friction force alone \[N\] (the same numbers bit for
+    /// bit): what scoring a model needs. The bristle state, dwell time and deflection rate
+    /// only a linearisation reads are neither computed nor stored (in a grid search's chord
+    /// steps, 70 % of a diagnosis's simulations).
+    pub fn friction_with_decay(&self, p: &Prepared, stribeck_decay: &[f64]) -> Vec<f64> {
+        self.simulate_given(p, Some(stribeck_decay), Outputs::FrictionOnly)
+            .friction
+    }
+
+    fn simulate_given(
+        &self,
+        p: &Prepared,
+        stribeck_decay: Option<&[f64]>,
+        outputs: Outputs,
+    ) -> Simulation {
         let n = p.len();
+        let extra = match outputs {
+            Outputs::All => n,
+            Outputs::FrictionOnly => 0,
+        };
         let mut out = Simulation {
             friction: vec![0.0; n],
-            bristle: vec![0.0; n],
-            dwell: vec![0.0; n],
-            deflection_rate: vec![0.0; n],
+            bristle: vec![0.0; extra],
+            dwell: vec![0.0; extra],
+            deflection_rate: vec![0.0; extra],
         };
         for r in &p.segments {
+            // the outputs not asked for are empty, and so is each segment's share of them
+            let within = |len: usize| r.start.min(len)..r.end.min(len);
             let out = [
                 &mut out.friction[r.clone()],
-                &mut out.bristle[r.clone()],
-                &mut out.dwell[r.clone()],
-                &mut out.deflection_rate[r.clone()],
+                &mut out.bristle[within(extra)],
+                &mut out.dwell[within(extra)],
+                &mut out.deflection_rate[within(extra)],
             ];
             self.simulate_segment(p, stribeck_decay, r.clone(), out);
         }
@@ -616,10 +646,11 @@ impl AxisModel {
         };
         let k = at + 1 - r.start;
         let [f, b, d, q] = out;
-        let (f0, f1) = f.split_at_mut(k);
-        let (b0, b1) = b.split_at_mut(k);
-        let (d0, d1) = d.split_at_mut(k);
-        let (q0, q1) = q.split_at_mut(k);
+        // an output not asked for is empty: both its halves are
+        let (f0, f1) = f.split_at_mut(k.min(f.len()));
+        let (b0, b1) = b.split_at_mut(k.min(b.len()));
+        let (d0, d1) = d.split_at_mut(k.min(d.len()));
+        let (q0, q1) = q.split_at_mut(k.min(q.len()));
         rayon::join(
             || {
                 self.simulate_run(
@@ -667,6 +698,8 @@ impl AxisModel {
         // levels that no condition moves are evaluated once, not at every sample
         let constant = self.friction.constant_levels();
         let [fr, br, dw, dr] = out;
+        // the bristle state, dwell time and deflection rate, unless they were not asked for
+        let extras = !br.is_empty();
         for (k, i) in r.enumerate() {
             let v = p.v_step[i];
             let decay = stribeck_decay.map(|d| d[i]);
@@ -692,17 +725,19 @@ impl AxisModel {
                 st.z = z;
             }
             fr[k] = f;
-            br[k] = (sigma0 * st.z / step.stribeck_level).clamp(-1.0, 1.0);
-            dw[k] = st.dwell_time;
-            dr[k] = st.deflection_rate;
+            if extras {
+                br[k] = (sigma0 * st.z / step.stribeck_level).clamp(-1.0, 1.0);
+                dw[k] = st.dwell_time;
+                dr[k] = st.deflection_rate;
+            }
         }
     }
 
     /// Predicted actuator force `M a + F_friction` \[N\] along the measured motion.
     pub fn predict(&self, p: &Prepared) -> Vec<f64> {
-        let sim = self.simulate(p);
+        let friction = self.simulate_given(p, None, Outputs::FrictionOnly).friction;
         p.a.iter()
-            .zip(&sim.friction)
+            .zip(&friction)
             .map(|(a, f)| self.mass_kg * a + f)
             .collect()
     }
@@ -798,6 +833,7 @@ mod tests {
 
     /// The simulation run as two halves split at a rest sample is the one long run, bit for
     /// bit; with a dwell clock (whose state a rest does not reset) it is not split at all.
+    /// Either way the friction alone is the whole simulation's friction, bit for bit.
     #[test]
     fn a_simulation_split_at_a_rest_is_the_whole_run_bit_for_bit() {
         let rec = moves_and_rests();
@@ -837,6 +873,27 @@ mod tests {
             }
             // the rests carry the held force: the model's friction is not trivially zero
             assert!(split.friction.iter().any(|f| f.abs() > 10.0));
+            // the friction alone (a chord step's score, a prediction) is the same numbers,
+            // split or not, and nothing else is kept
+            let decay = m.stribeck_decay(&p);
+            let alone = m.friction_with_decay(&p, &decay);
+            let full = m.simulate_with_decay(&p, &decay);
+            assert!(alone.len() == n && full.bristle.len() == n);
+            assert!(
+                alone
+                    .iter()
+                    .zip(&full.friction)
+                    .all(|(u, v)| u.to_bits() == v.to_bits()),
+                "the friction alone differs"
+            );
+            let kept = m.simulate_given(&p, Some(&decay), Outputs::FrictionOnly);
+            assert!(kept.bristle.is_empty() && kept.dwell.is_empty());
+            assert!(kept.deflection_rate.is_empty());
+            let predicted = m.predict(&p);
+            assert!(predicted
+                .iter()
+                .zip(p.a.iter().zip(&full.friction))
+                .all(|(y, (a, f))| y.to_bits() == (m.mass_kg * a + f).to_bits()));
         }
     }
 }
