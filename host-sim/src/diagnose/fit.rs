@@ -281,12 +281,7 @@ fn refit_iterations(
                 ..Simulation::default()
             }
         };
-        let pred: Vec<f64> =
-            p.a.iter()
-                .zip(&sim.friction)
-                .map(|(a, f)| m.mass_kg * a + f)
-                .collect();
-        let filtered = p.filter(&pred);
+        let filtered = p.filter(&m.force_with(p, &sim.friction));
         let rss = p.weighted_rss_filtered(&filtered);
         (
             if rss.is_finite() { rss } else { f64::INFINITY },

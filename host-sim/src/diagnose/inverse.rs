@@ -735,9 +735,17 @@ impl AxisModel {
 
     /// Predicted actuator force `M a + F_friction` \[N\] along the measured motion.
     pub fn predict(&self, p: &Prepared) -> Vec<f64> {
-        let friction = self.simulate_given(p, None, Outputs::FrictionOnly).friction;
+        self.force_with(
+            p,
+            &self.simulate_given(p, None, Outputs::FrictionOnly).friction,
+        )
+    }
+
+    /// The actuator force `M a + F_friction` \[N\] at each sample, from this model's friction
+    /// along the record (a simulation's, [`Self::friction_with_decay`]'s).
+    pub fn force_with(&self, p: &Prepared, friction: &[f64]) -> Vec<f64> {
         p.a.iter()
-            .zip(&friction)
+            .zip(friction)
             .map(|(a, f)| self.mass_kg * a + f)
             .collect()
     }

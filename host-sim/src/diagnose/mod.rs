@@ -484,45 +484,45 @@ pub struct PhaseTimes {
 }
 
 impl PhaseTimes {
+    /// Every phase with its name \[s\], in the order they run (the total and
+    /// [`Self::other_s`] apart).
+    pub fn phases(&self) -> [(&'static str, f64); 7] {
+        [
+            ("first baseline", self.first_baseline_s),
+            ("baseline", self.baseline_s),
+            ("candidates", self.candidates_s),
+            ("nested check", self.nested_s),
+            ("restarts", self.restarts_s),
+            ("close calls", self.close_calls_s),
+            ("stage fits", self.stage_fits_s),
+        ]
+    }
+
     /// What no phase covers \[s\]: the static tables, the departures from rest, the regimes
     /// (and, scored unweighted, the motion reading's spread about the baseline).
     pub fn other_s(&self) -> f64 {
-        self.total_s
-            - (self.first_baseline_s
-                + self.baseline_s
-                + self.candidates_s
-                + self.nested_s
-                + self.restarts_s
-                + self.close_calls_s
-                + self.stage_fits_s)
+        self.total_s - self.phases().iter().map(|(_, s)| s).sum::<f64>()
     }
 }
 
 impl core::fmt::Display for PhaseTimes {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(
-            f,
-            "first baseline {:.2}, baseline {:.2}, candidates {:.2}",
-            self.first_baseline_s, self.baseline_s, self.candidates_s
-        )?;
-        for (name, s) in [
-            ("nested check", self.nested_s),
-            ("restarts", self.restarts_s),
-            ("close calls", self.close_calls_s),
-            ("stage fits", self.stage_fits_s),
-        ] {
-            // a phase that did not run (or took no time worth a digit) is not listed
-            if s >= 0.005 {
-                write!(f, ", {name} {s:.2}")?;
+        for (k, (name, s)) in self.phases().into_iter().enumerate() {
+            // the three every diagnosis runs, then the others that ran (took a digit's worth)
+            if k < 3 || s >= 0.005 {
+                write!(f, "{}{name} {s:.2}", if k == 0 { "" } else { ", " })?;
             }
         }
         write!(f, ", other {:.2} s", self.other_s())
     }
 }
 
-/// Seconds since `start` added to `phase`.
-fn clocked(phase: &mut f64, start: std::time::Instant) {
+/// `work`'s result, its wall time added to `phase` \[s\].
+fn timed<T>(phase: &mut f64, work: impl FnOnce() -> T) -> T {
+    let start = std::time::Instant::now();
+    let out = work();
     *phase += start.elapsed().as_secs_f64();
+    out
 }
 
 /// Options of a diagnosis.
@@ -1120,12 +1120,12 @@ pub fn rank_candidates(
     n_eff: f64,
     times: &mut PhaseTimes,
 ) -> Vec<Candidate> {
-    let clock = std::time::Instant::now();
-    let mut out = rank_among(p, brk, current, fixed_mass, n_eff, None, Vec::new());
-    clocked(&mut times.candidates_s, clock);
-    let clock = std::time::Instant::now();
-    prefer_nested(&mut out, p, brk, fixed_mass, n_eff);
-    clocked(&mut times.nested_s, clock);
+    let mut out = timed(&mut times.candidates_s, || {
+        rank_among(p, brk, current, fixed_mass, n_eff, None, Vec::new())
+    });
+    timed(&mut times.nested_s, || {
+        prefer_nested(&mut out, p, brk, fixed_mass, n_eff)
+    });
     out
 }
 
@@ -2093,7 +2093,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         n_eff = fit::effective_samples(&p, protocol.parallel_cutoff_hz);
         spread = Some(s);
     }
-    clocked(&mut times.first_baseline_s, start);
+    times.first_baseline_s = start.elapsed().as_secs_f64();
     let given_rel_err_pct = opts.given.map(|g| p.rel_err_pct(&g.predict(&p)));
 
     let tables = static_table::fit(&p, fixed_mass);
@@ -2102,9 +2102,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     } else {
         Breakaway::find(&p)
     };
-    let clock = std::time::Instant::now();
-    let base = baseline(&p, opts, n_eff);
-    clocked(&mut times.baseline_s, clock);
+    let base = timed(&mut times.baseline_s, || baseline(&p, opts, n_eff));
     let spread =
         spread.unwrap_or_else(|| prediction_spread(rec, name, protocol, &p, &base.model).1);
     // scored like a model's error over the moving samples counted alike
@@ -2135,14 +2133,14 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
             .fit
             .as_ref()
             .ok_or(Error::EffectAlreadyInModel(e))?;
-        let clock = std::time::Instant::now();
-        let fit = match (&opts.given, &candidate.staged) {
-            (Some(_), _) => fit.clone(),
-            // the ranking's parsimony check already fitted it as a stage
-            (None, Some(staged)) => staged.clone(),
-            (None, None) => stage_fit(e, fit, &p, fixed_mass, n_eff),
-        };
-        clocked(&mut times.stage_fits_s, clock);
+        let fit = timed(&mut times.stage_fits_s, || {
+            match (&opts.given, &candidate.staged) {
+                (Some(_), _) => fit.clone(),
+                // the ranking's parsimony check already fitted it as a stage
+                (None, Some(staged)) => staged.clone(),
+                (None, None) => stage_fit(e, fit, &p, fixed_mass, n_eff),
+            }
+        });
         let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);
         stages.push(stage(
             Some(e),
@@ -2281,15 +2279,29 @@ const MAX_RESTARTS: usize = 2;
 /// model of the same family ([`BETTER_START_CUT`]) judges them again against it
 /// ([`rank_after_restart`]): the model and its candidates.
 fn rank_from_best_start(
-    mut fit: Fit,
+    fit: Fit,
     p: &Prepared,
     brk: &Breakaway,
     fixed_mass: Option<f64>,
     n_eff: f64,
     times: &mut PhaseTimes,
 ) -> (Fit, Vec<Candidate>, Vec<Restart>) {
-    let mut candidates = rank_candidates(p, brk, &fit, fixed_mass, n_eff, times);
-    let clock = std::time::Instant::now();
+    let candidates = rank_candidates(p, brk, &fit, fixed_mass, n_eff, times);
+    timed(&mut times.restarts_s, || {
+        restart_from_better_starts(fit, candidates, p, brk, fixed_mass, n_eff)
+    })
+}
+
+/// [`rank_from_best_start`] once the stage's model is ranked: the better starts its significant
+/// candidates reveal, each followed by the candidates judged again ([`rank_after_restart`]).
+fn restart_from_better_starts(
+    mut fit: Fit,
+    mut candidates: Vec<Candidate>,
+    p: &Prepared,
+    brk: &Breakaway,
+    fixed_mass: Option<f64>,
+    n_eff: f64,
+) -> (Fit, Vec<Candidate>, Vec<Restart>) {
     let mut restarts = Vec::new();
     for _ in 0..MAX_RESTARTS {
         let better = candidates
@@ -2315,7 +2327,6 @@ fn rank_from_best_start(
         fit = better;
         candidates = rank_after_restart(p, brk, &fit, candidates, revealed_by, fixed_mass, n_eff);
     }
-    clocked(&mut times.restarts_s, clock);
     (fit, candidates, restarts)
 }
 
@@ -2347,9 +2358,9 @@ fn stage(
     let (fit, candidates, restarts) = if rank {
         let (fit, mut candidates, restarts) =
             rank_from_best_start(fit, p, brk, fixed_mass, n_eff, times);
-        let clock = std::time::Instant::now();
-        settle_close_call(&mut candidates, p, brk, &fit, fixed_mass, n_eff);
-        clocked(&mut times.close_calls_s, clock);
+        timed(&mut times.close_calls_s, || {
+            settle_close_call(&mut candidates, p, brk, &fit, fixed_mass, n_eff)
+        });
         (fit, candidates, restarts)
     } else {
         (fit, Vec::new(), Vec::new())
