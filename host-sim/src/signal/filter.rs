@@ -390,21 +390,27 @@ mod tests {
             if backward {
                 y.reverse();
             }
-            for sec in &f.sections {
-                let [b0, b1, b2] = sec.b;
-                let [a1, a2] = sec.a;
-                let [mut s1, mut s2] = sec.steady_state(y[0]);
-                for v in y.iter_mut() {
-                    let out = b0 * *v + s1;
-                    (s1, s2) = (b1 * *v - a1 * out + s2, b2 * *v - a2 * out);
-                    *v = out;
-                }
-            }
+            textbook_pass(f, &mut y);
             if backward {
                 y.reverse();
             }
         }
         y[pad..pad + n].to_vec()
+    }
+
+    /// One forward pass of the sections over `y`, one section after the other, each started in
+    /// the steady state of its first input, in place: the textbook recursion.
+    fn textbook_pass(f: &LowPass, y: &mut [f64]) {
+        for sec in &f.sections {
+            let [b0, b1, b2] = sec.b;
+            let [a1, a2] = sec.a;
+            let [mut s1, mut s2] = sec.steady_state(y[0]);
+            for v in y.iter_mut() {
+                let out = b0 * *v + s1;
+                (s1, s2) = (b1 * *v - a1 * out + s2, b2 * *v - a2 * out);
+                *v = out;
+            }
+        }
     }
 
     /// The noise gain against Parseval on the filter's frequency response: the bilinear
@@ -487,18 +493,28 @@ mod tests {
         }
     }
 
+    /// `n` samples at 1 kHz of steps between 400 and -250 every `step_every` samples, a ramp
+    /// and a sine.
+    fn steps_ramp_and_sine(n: usize, step_every: usize) -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                let t = i as f64 * 1e-3;
+                let step = if (i / step_every) % 2 == 0 {
+                    400.0
+                } else {
+                    -250.0
+                };
+                step + 30.0 * (11.0 * t).sin() + 5.0 * t
+            })
+            .collect()
+    }
+
     #[test]
     fn a_chunked_signal_is_the_long_recursion_within_rounding() {
         let f = LowPass::butterworth4(20.0, 1000.0);
         let n = 60_000;
-        // steps, ramps and a sine: a state error at a run's start would show for ~1000 samples
-        let x: Vec<f64> = (0..n)
-            .map(|i| {
-                let t = i as f64 * 1e-3;
-                let step = if (i / 7000) % 2 == 0 { 400.0 } else { -250.0 };
-                step + 30.0 * (11.0 * t).sin() + 5.0 * t
-            })
-            .collect();
+        // a state error at a run's start would show for ~1000 samples
+        let x = steps_ramp_and_sine(n, 7000);
         let plan = Chunks::plan(n + 2 * LowPass::padding(n), f.memory_samples());
         assert!(plan.count > 1, "the test must exercise the chunks");
         let r = reference_filtfilt(&f, &x);
@@ -542,16 +558,7 @@ mod tests {
                 if backward {
                     run.reverse();
                 }
-                for sec in &f.sections {
-                    let [b0, b1, b2] = sec.b;
-                    let [a1, a2] = sec.a;
-                    let [mut s1, mut s2] = sec.steady_state(run[0]);
-                    for v in run.iter_mut() {
-                        let out = b0 * *v + s1;
-                        (s1, s2) = (b1 * *v - a1 * out + s2, b2 * *v - a2 * out);
-                        *v = out;
-                    }
-                }
+                textbook_pass(f, &mut run);
                 if backward {
                     run.reverse();
                 }
@@ -573,14 +580,8 @@ mod tests {
     fn chunks_filtered_in_place_are_each_run_filtered_alone_bit_for_bit() {
         let f = LowPass::butterworth4(20.0, 1000.0);
         for n in [12_000, 60_000, 123_457] {
-            // a step at every run boundary would show a run that read another's output
-            let x: Vec<f64> = (0..n)
-                .map(|i| {
-                    let t = i as f64 * 1e-3;
-                    let step = if (i / 3001) % 2 == 0 { 400.0 } else { -250.0 };
-                    step + 30.0 * (11.0 * t).sin() + 5.0 * t
-                })
-                .collect();
+            // steps every 3 s, so that a run that read another's output cannot go unnoticed
+            let x = steps_ramp_and_sine(n, 3001);
             let m = n + 2 * LowPass::padding(n);
             for plan in [Chunks::plan(m, f.memory_samples()), Chunks::plan(m, 10)] {
                 assert!(plan.count > 1, "n {n}: the test must exercise the chunks");
