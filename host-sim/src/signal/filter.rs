@@ -201,6 +201,9 @@ impl LowPass {
         let Some(len) = runs.first().map(|r| r.len()) else {
             return;
         };
+        // both callers keep to this by construction (`Chunks::plan` makes at most MAX_RUNS
+        // runs of one length; `filtfilt_lockstep` halves more than 2 LANES signals of one length)
+        debug_assert!(runs.len() <= MAX_RUNS && runs.iter().all(|r| r.len() == len));
         if runs.len() > MAX_RUNS || runs.iter().any(|r| r.len() != len) {
             return;
         }
