@@ -115,10 +115,10 @@ impl LowPass {
     /// A single long signal is cut into chunks that run side by side instead
     /// (`filtfilt_chunked`): within rounding of the one long recursion, not bit for
     /// bit, and 1.7x faster (measured on 60 000 samples, when the runs were copied). Two
-    /// signals or more are each the one long recursion, bit for bit. More than two lane groups are filtered as two
-    /// halves of whole groups, side by side where a rayon thread is idle (bit for bit the
-    /// same; halves of one group each lost more overlap than they gained: 9.2 s of CPU against
-    /// 8.6 s on a 60 s diagnosis).
+    /// signals or more are each the one long recursion, bit for bit. More than two lane groups
+    /// are filtered as two halves of whole groups, side by side where a rayon thread is idle
+    /// (bit for bit the same; halves of one group each lost more overlap than they gained: 9.2 s
+    /// of CPU against 8.6 s on a 60 s diagnosis).
     pub fn filtfilt_many(&self, xs: &[&[f64]]) -> Vec<Vec<f64>> {
         if let [x] = xs {
             let plan = Chunks::plan(x.len() + 2 * Self::padding(x.len()), self.memory_samples());
@@ -165,23 +165,14 @@ impl LowPass {
     /// each run was copied into a buffer of its own and back (which cost more than the
     /// filtering: 0.53 against 0.28 ms on 60 000 samples, `filter_timing`).
     fn filtfilt_chunked(&self, x: &[f64], plan: &Chunks) -> Vec<f64> {
-        let (m, len, count) = (plan.m, plan.run_len, plan.count);
         let mut y = Self::padded_vec(x);
         {
             // overlapping views of one buffer, written through shared cells
             let cells = Cell::from_mut(y.as_mut_slice()).as_slice_of_cells();
-            let skipped: Vec<usize> = (0..count).map(|c| plan.skipped(c)).collect();
+            let skipped: Vec<usize> = (0..plan.count).map(|c| plan.skipped(c)).collect();
             for backward in [false, true] {
-                // in a backward pass run c covers the mirrored stretch, read in reverse
-                let runs: Vec<&[Cell<f64>]> = (0..count)
-                    .map(|c| {
-                        let a = plan.run_start(c);
-                        if backward {
-                            &cells[m - a - len..m - a]
-                        } else {
-                            &cells[a..a + len]
-                        }
-                    })
+                let runs: Vec<&[Cell<f64>]> = (0..plan.count)
+                    .map(|c| &cells[plan.stretch(c, backward)])
                     .collect();
                 self.pass(&runs, &skipped, backward);
             }
@@ -312,8 +303,9 @@ struct Chunks {
 
 impl Chunks {
     /// Runs in flight that keep the CPU's pipelines busy (measured on one signal of 60 000
-    /// samples: 6 runs 0.47 ms against 0.81 ms for the one long recursion; 4 or 8 runs
-    /// 0.51 ms).
+    /// samples when the runs were still copied into a buffer of their own: 6 runs 0.47 ms
+    /// against 0.81 ms for the one long recursion; 4 or 8 runs 0.51 ms). Changing it moves the
+    /// runs' seams, and so the filtered numbers by rounding.
     const LANES_WANTED: usize = 6;
 
     fn plan(m: usize, memory: usize) -> Self {
@@ -344,6 +336,17 @@ impl Chunks {
             self.m - self.run_len
         } else {
             c * (self.run_len - self.memory)
+        }
+    }
+
+    /// The samples run `c` covers in a pass: forward from [`Self::run_start`], or in a backward
+    /// pass (over the reversed signal) the mirrored stretch, which the run reads from its end.
+    fn stretch(&self, c: usize, backward: bool) -> std::ops::Range<usize> {
+        let a = self.run_start(c);
+        if backward {
+            self.m - a - self.run_len..self.m - a
+        } else {
+            a..a + self.run_len
         }
     }
 
@@ -546,17 +549,12 @@ mod tests {
     /// recursion, and its kept part stitched in: what the in-place runs must equal bit for
     /// bit (each must read the pass's input, never a sample another run already wrote).
     fn runs_filtered_alone(f: &LowPass, x: &[f64], plan: &Chunks) -> Vec<f64> {
-        let (m, len) = (plan.m, plan.run_len);
+        let len = plan.run_len;
         let mut y = LowPass::padded_vec(x);
         for backward in [false, true] {
             let mut next = y.clone();
             for c in 0..plan.count {
-                let a = plan.run_start(c);
-                let stretch = if backward {
-                    m - a - len..m - a
-                } else {
-                    a..a + len
-                };
+                let stretch = plan.stretch(c, backward);
                 let mut run = y[stretch.clone()].to_vec();
                 if backward {
                     run.reverse();
