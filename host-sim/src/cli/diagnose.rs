@@ -453,6 +453,19 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                     _ => {}
                 }
             }
+            let kept: Vec<String> = s
+                .candidates
+                .iter()
+                .filter(|c| c.fitted_before_restart)
+                .map(|c| c.kind.to_string())
+                .collect();
+            if !kept.is_empty() {
+                println!(
+                    "   {}: {}",
+                    kept.join(", "),
+                    diagnose::FITTED_BEFORE_RESTART
+                );
+            }
             let settled: Vec<String> = s
                 .candidates
                 .iter()

@@ -276,6 +276,9 @@ fn verdict(c: &super::Candidate) -> String {
             None => "not significant".into(),
         },
     };
+    if c.fitted_before_restart {
+        v += &format!(" ({})", super::FITTED_BEFORE_RESTART);
+    }
     if c.settled_as_stage {
         v += &format!(" ({})", super::SETTLED_AS_STAGE);
     }
