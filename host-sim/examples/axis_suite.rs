@@ -21,6 +21,8 @@
 //! driven by the same measured motion through the same pipeline). Effect-free: no significant
 //! candidate. The last column counts the right answers among the records whose floor is below
 //! the fitted baseline's error (where the pipeline resolves more than the baseline explains).
+//! The records whose baseline restarted from a better start (`diagnose::Restart`) are listed in
+//! `--seeds` form, to rerun exactly those.
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;
@@ -247,10 +249,23 @@ fn main() {
         false_pos,
         pct(false_pos, none.len())
     );
+    // named in `--seeds` form, so that a change to the restart is checked on exactly these
+    // (session 40 listed them from memory and missed two)
+    let restarted: Vec<String> = rows
+        .iter()
+        .filter(|r| r.restarts > 0)
+        .map(|r| format!("{}:{}", r.hidden, r.seed))
+        .collect();
     println!(
-        "baselines replaced by a better start a candidate revealed: {} of {}",
-        rows.iter().filter(|r| r.restarts > 0).count(),
-        rows.len()
+        "baselines replaced by a better start a candidate revealed: {} of {}{}{}",
+        restarted.len(),
+        rows.len(),
+        if restarted.is_empty() {
+            ""
+        } else {
+            ": --seeds "
+        },
+        restarted.join(",")
     );
     println!(
         "({} records, {:.0} s)",
