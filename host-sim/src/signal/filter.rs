@@ -62,6 +62,9 @@ const LANES: usize = 2;
 /// (at most `2 LANES`).
 const MAX_RUNS: usize = Chunks::LANES_WANTED;
 
+// `filtfilt_lockstep` hands a pass at most `2 LANES` signals
+const _: () = assert!(2 * LANES <= MAX_RUNS);
+
 /// A zero-phase low-pass filter.
 #[derive(Clone, Debug)]
 pub struct LowPass {
@@ -193,11 +196,17 @@ impl LowPass {
             return;
         };
         // both callers keep to this by construction (`Chunks::plan` makes at most MAX_RUNS
-        // runs of one length; `filtfilt_lockstep` halves more than 2 LANES signals of one length)
-        debug_assert!(runs.len() <= MAX_RUNS && runs.iter().all(|r| r.len() == len));
-        if runs.len() > MAX_RUNS || runs.iter().any(|r| r.len() != len) {
-            return;
-        }
+        // runs of one length; `filtfilt_lockstep` halves more than 2 LANES signals of one
+        // length): a breach is a bug, never a signal left silently unfiltered
+        assert!(
+            runs.len() <= MAX_RUNS && skipped.len() >= runs.len(),
+            "{} runs",
+            runs.len()
+        );
+        assert!(
+            runs.iter().all(|r| r.len() == len),
+            "runs of unequal length"
+        );
         // fixed-size tables (a lane without a run is an empty one, which reads zeros that
         // stay zero): the compiler keeps the loop in registers, as it did not over slices
         let (count, groups) = (runs.len(), runs.len().div_ceil(LANES));
