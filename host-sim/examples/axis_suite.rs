@@ -8,7 +8,9 @@
 //! significance rule was calibrated on instead; `--no-breakaway` judges on sliding samples
 //! alone (the ablation of the breakaway evidence); `--only EFFECT` runs that effect's records
 //! (and the effect-free ones); `--seeds EFFECT:SEED,...` runs exactly those records (`none`
-//! for effect-free). `--unweighted` scores every moving sample alike (`Options::unweighted`,
+//! for effect-free; `EFFECT:A..B` for seeds A to B). `--unseen` runs every record no rule
+//! was tuned on: the held-out seeds and the never-run sets ([`NEVER_RUN`]), with a line per
+//! set. `--unweighted` scores every moving sample alike (`Options::unweighted`,
 //! the rule until session 23); `--leave-out-unresolved FLOOR` runs the experiment of
 //! `Options::leave_out_unresolved`. `--encoder-um R`, `--noise-x K` and `--log-hz F` measure
 //! every record through other sensors (encoder resolution R um instead of 1; force and
@@ -34,8 +36,26 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::path::Path;
 
+/// The never-run checks: sets registered before they first ran, run once, and no rule or
+/// constant changed on their evidence (session, first effect-free seed, effect seed offset).
+/// Each has 30 effect-free records from its first seed and, per effect `k` in [`EFFECTS`]'
+/// order, 5 from `20 000 + 100 k + offset`. Session 34's set (740.., offset 45) is not one:
+/// session 35 studied its dwell miss 20745.
+const NEVER_RUN: [(&str, u64, u64); 5] = [
+    ("never-run s35", 770, 50),
+    ("never-run s38", 800, 55),
+    ("never-run s39", 830, 60),
+    ("never-run s40", 860, 65),
+    ("never-run s41", 890, 70),
+];
+
+/// A record to run: its hidden effect (`None`: effect-free), seed and the set it belongs to.
+type Job = (Option<&'static str>, u64, &'static str);
+
 #[derive(serde::Serialize)]
 struct Row {
+    /// the set the record belongs to (held-out, calibration, a never-run set, `--seeds`)
+    set: &'static str,
     hidden: String,
     seed: u64,
     actuator: String,
@@ -117,12 +137,12 @@ fn main() {
     // The significance rule was calibrated on the calibration seeds (effect-free 100.., effects
     // 1000..); the table is reported on held-out seeds unless --calibration is given.
     let calibration = args.iter().any(|a| a == "--calibration");
-    let (free0, eff0) = if calibration {
-        (100, 1000)
+    let (free0, eff0, set) = if calibration {
+        (100, 1000, "calibration")
     } else {
-        (500, 20_000)
+        (500, 20_000, "held-out")
     };
-    let mut jobs: Vec<(Option<&'static str>, u64)> = (0..free).map(|s| (None, free0 + s)).collect();
+    let mut jobs: Vec<Job> = (0..free).map(|s| (None, free0 + s, set)).collect();
     // `--only EFFECT`: that effect's records (and the effect-free ones) only
     let only = args
         .iter()
@@ -132,7 +152,10 @@ fn main() {
         if only.as_deref().is_some_and(|o| o != *e) {
             continue;
         }
-        jobs.extend((0..per_effect).map(|s| (Some(*e), eff0 + 100 * k as u64 + s)));
+        jobs.extend((0..per_effect).map(|s| (Some(*e), eff0 + 100 * k as u64 + s, set)));
+    }
+    if args.iter().any(|a| a == "--unseen") {
+        jobs = unseen();
     }
     // `--seeds EFFECT:SEED,...` (`none` for effect-free): exactly those records
     if let Some(list) = args
@@ -142,10 +165,14 @@ fn main() {
     {
         jobs = list
             .split(',')
-            .map(|item| {
-                let (e, seed) = item.split_once(':').expect("EFFECT:SEED");
+            .flat_map(|item| {
+                let (e, seeds) = item.split_once(':').expect("EFFECT:SEED or EFFECT:A..B");
                 let effect = generators::axis::effect_named(e).unwrap_or_else(|e| panic!("{e}"));
-                (effect, seed.parse().expect("seed"))
+                let seed = |s: &str| s.parse::<u64>().expect("seed");
+                let (a, b) = seeds
+                    .split_once("..")
+                    .map_or_else(|| (seed(seeds), seed(seeds)), |(a, b)| (seed(a), seed(b)));
+                (a..=b).map(move |s| (effect, s, "seeds"))
             })
             .collect();
     }
@@ -155,8 +182,8 @@ fn main() {
     let wall = std::time::Instant::now();
     let rows: Vec<Row> = jobs
         .par_iter()
-        .map(|&(effect, seed)| {
-            let row = run(effect, seed, sensors);
+        .map(|&(effect, seed, set)| {
+            let row = run(effect, seed, set, sensors);
             bar.inc(1);
             row
         })
@@ -238,10 +265,7 @@ fn main() {
         line("  its clock on the motion", dw.len(), None, t);
     }
     let none: Vec<&Row> = rows.iter().filter(|r| r.hidden == "none").collect();
-    let false_pos = none
-        .iter()
-        .filter(|r| r.error.is_some() || r.first_significant.is_some())
-        .count();
+    let false_pos = none.iter().filter(|r| r.false_positive()).count();
     println!(
         "{:<24} {:>9} {:>15} ({:>3.0} %) with a significant effect (false positives)",
         "none",
@@ -267,6 +291,7 @@ fn main() {
         },
         restarted.join(",")
     );
+    per_set(&rows);
     println!(
         "({} records, {:.0} s)",
         rows.len(),
@@ -277,6 +302,65 @@ fn main() {
         std::fs::write(&path, serde_json::to_string_pretty(&rows).expect("json"))
             .expect("write json");
         println!("wrote {path}");
+    }
+}
+
+impl Row {
+    /// An effect-free record with a significant effect, or one the diagnosis refused.
+    fn false_positive(&self) -> bool {
+        self.error.is_some() || self.first_significant.is_some()
+    }
+}
+
+/// The held-out seeds (10 per effect, 50 effect-free) and every never-run set ([`NEVER_RUN`]).
+fn unseen() -> Vec<Job> {
+    let mut jobs: Vec<Job> = (500..550).map(|s| (None, s, "held-out")).collect();
+    for (k, e) in EFFECTS.iter().enumerate() {
+        jobs.extend((0..10).map(|s| (Some(*e), 20_000 + 100 * k as u64 + s, "held-out")));
+    }
+    for (set, free0, offset) in NEVER_RUN {
+        jobs.extend((free0..free0 + 30).map(|s| (None, s, set)));
+        for (k, e) in EFFECTS.iter().enumerate() {
+            let first = 20_000 + 100 * k as u64 + offset;
+            jobs.extend((first..first + 5).map(|s| (Some(*e), s, set)));
+        }
+    }
+    jobs
+}
+
+/// A line per set where the rows come from more than one: effects right, within 1.2x the
+/// floor, false positives.
+fn per_set(rows: &[Row]) {
+    let mut sets: Vec<&str> = rows.iter().map(|r| r.set).collect();
+    sets.dedup();
+    if sets.len() < 2 {
+        return;
+    }
+    println!(
+        "\n{:<16} {:>18} {:>18} {:>18}",
+        "set", "effects right", "within 1.2x", "false positives"
+    );
+    for set in sets {
+        let rs: Vec<&Row> = rows.iter().filter(|r| r.set == set).collect();
+        let (with, none): (Vec<&Row>, Vec<&Row>) = rs.iter().partition(|r| r.hidden != "none");
+        let right = with
+            .iter()
+            .filter(|r| r.first_significant.as_deref() == Some(r.hidden.as_str()))
+            .count();
+        let close = with
+            .iter()
+            .filter(|r| r.error.is_none() && r.added_pct <= 1.2 * r.floor_pct)
+            .count();
+        let fp = none.iter().filter(|r| r.false_positive()).count();
+        println!(
+            "{set:<16} {:>11} of {:>3} {:>11} of {:>3} {:>11} of {:>3}",
+            right,
+            with.len(),
+            close,
+            with.len(),
+            fp,
+            none.len()
+        );
     }
 }
 
@@ -357,10 +441,11 @@ fn leave_out_unresolved() -> Option<f64> {
     )
 }
 
-fn run(effect: Option<&'static str>, seed: u64, sensors: Sensors) -> Row {
+fn run(effect: Option<&'static str>, seed: u64, set: &'static str, sensors: Sensors) -> Row {
     let (text, axis) = random_record_with(effect, seed, sensors);
     let hidden = effect.unwrap_or("none").to_string();
     let mut row = Row {
+        set,
         hidden: hidden.clone(),
         seed,
         actuator: format!("{:?}", axis.actuator).to_lowercase(),

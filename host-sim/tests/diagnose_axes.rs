@@ -186,6 +186,11 @@ fn nested_answer((hidden, seed): (&'static str, u64), set_aside: &str, why: &str
     let caution = aside.caution.as_deref().unwrap_or_default();
     assert!(caution.contains(why), "{caution}");
     assert_eq!(first_significant(c), Some(hidden), "{}", report(&d));
+    if hidden == "offset" {
+        kept_says_why(answer, set_aside);
+    } else {
+        assert!(answer.kept_over_larger.is_none());
+    }
 }
 
 /// The same parsimony the other way round: on an independent asymmetry record (calibration
@@ -202,7 +207,8 @@ fn an_asymmetry_is_not_read_as_the_offset_it_contains() {
 /// offset record 20137 (hydraulic) the offset fitted from the static table alone ended at
 /// 0.52 %, where the stage ends at 0.31 % (the truth 0.36 %); asymmetry on top of it cut that
 /// difference, a third of the error, and the record was read as asymmetry. On the stage's fit
-/// the asymmetry explains nothing more and the offset is the answer.
+/// the asymmetry explains nothing more and the offset is the answer, which says so with the
+/// two errors the check weighed.
 #[test]
 fn the_nested_check_judges_on_the_stage_fit() {
     let (d, _) = diagnose(Some("offset"), 20137, &[]);
@@ -216,6 +222,26 @@ fn the_nested_check_judges_on_the_stage_fit() {
         report(&d)
     );
     assert!(first.is_some_and(|c| c.caution.is_none()));
+    kept_says_why(first.unwrap(), "asymmetry");
+}
+
+/// The simpler effect of a nested pair, kept as the answer, carries the check that kept it:
+/// `larger` judged on top of it, with a cut under the decision's, both errors, and a sentence
+/// saying what would separate the two.
+fn kept_says_why(kept: &diagnose::Candidate, larger: &str) {
+    let n = kept.kept_over_larger.expect("the check that kept it");
+    assert_eq!((n.larger.name(), n.kept), (larger, kept.kind));
+    assert!(n.larger_on_top_cut < diagnose::MIN_ERROR_CUT, "{n}");
+    let on_top = n.larger_on_top_rel_err_pct.expect("tested");
+    assert!(
+        (1.0 - on_top / n.kept_rel_err_pct - n.larger_on_top_cut).abs() < 1e-9,
+        "the cut is the one between the two errors: {n}"
+    );
+    let said = n.to_string();
+    assert!(
+        said.contains("does not separate") && said.contains("each direction"),
+        "{said}"
+    );
 }
 
 /// A close call is settled on fits searched as a stage searches (`diagnose::CLOSE_CALL`): on

@@ -445,6 +445,9 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                         );
                         if c.significant {
                             println!("   {:<24} -> {}", "", c.meaning);
+                            if let Some(n) = &c.kept_over_larger {
+                                println!("   {:<24} -> {n}", "");
+                            }
                         }
                         if let Some(why) = &c.caution {
                             println!("   {:<24} -> cannot be significant: {why}", "");

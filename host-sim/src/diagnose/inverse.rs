@@ -549,7 +549,7 @@ impl AxisModel {
     /// deflection a quantised reading would leave (the last move's, carried through the rest,
     /// since `dz/dt = 0` at `v = 0`) is not the one the next departure starts from. With that
     /// stale deflection a dwell term absorbed up to 60 % of effect-free records' errors at
-    /// their departures (calibration seeds 100..199, session 24; README).
+    /// their departures (calibration seeds 100..199, session 24; `docs/diagnosis-log.md`).
     pub fn simulate(&self, p: &Prepared) -> Simulation {
         self.simulate_given(p, None, Outputs::All)
     }

@@ -356,6 +356,71 @@ pub struct Candidate {
     /// (see `settle_close_call`).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub settled_as_stage: bool,
+    /// Where this candidate is the simpler effect of a nested pair ([`NESTED`]) and the
+    /// answer: the larger effect judged on top of it, and why the simpler one was kept.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept_over_larger: Option<NestedCheck>,
+}
+
+/// The parsimony check between nested effects (`prefer_nested`, `larger_on_top`) where it
+/// kept the simpler effect: the larger one, judged on top of the simpler one fitted as a stage,
+/// did not cut the error by [`MIN_ERROR_CUT`]. Said with the answer, because the record then
+/// cannot tell the two apart beyond that cut, and the user can record what would.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct NestedCheck {
+    /// The larger effect, which contains the kept one (serialised by its name).
+    #[serde(serialize_with = "effect_name")]
+    pub larger: EffectKind,
+    /// The kept effect, whose candidate this is (serialised by its name).
+    #[serde(serialize_with = "effect_name")]
+    pub kept: EffectKind,
+    /// The error with the kept effect fitted as a stage [%].
+    pub kept_rel_err_pct: f64,
+    /// The error with the larger effect on top of it [%] (absent: it could not be tested).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub larger_on_top_rel_err_pct: Option<f64>,
+    /// The larger effect's error cut there, a fraction (the decision weighs it against
+    /// [`MIN_ERROR_CUT`]; 0 when it could not be tested).
+    pub larger_on_top_cut: f64,
+}
+
+impl core::fmt::Display for NestedCheck {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let (larger, kept) = (self.larger, self.kept);
+        write!(
+            f,
+            "kept over {larger}, which contains it: with {kept} added "
+        )?;
+        match self.larger_on_top_rel_err_pct {
+            Some(on_top) => write!(
+                f,
+                "({:.2} %), {larger} on top cuts the error by a further {:.0} % (to {on_top:.2} %), \
+                 and a significant effect cuts {:.0} %",
+                self.kept_rel_err_pct,
+                100.0 * self.larger_on_top_cut,
+                100.0 * MIN_ERROR_CUT
+            )?,
+            None => write!(
+                f,
+                "({:.2} %), {larger} on top could not be tested",
+                self.kept_rel_err_pct
+            )?,
+        }
+        write!(f, ": this record does not separate the two")?;
+        if (larger, kept) == (EffectKind::Asymmetry, EffectKind::Offset) {
+            // an asymmetry is an offset where its Coulomb and static shifts are equal in
+            // newtons and its viscous slopes are equal: what differs is seen at speed and at
+            // breakaway, direction by direction
+            write!(
+                f,
+                ". To separate them, record constant-speed moves in each direction over a wide speed range \
+                 (an asymmetry's viscous slope differs by direction, an offset's does not) and \
+                 breakaways in each direction (an offset shifts the static and the Coulomb \
+                 level by the same force)"
+            )?;
+        }
+        Ok(())
+    }
 }
 
 impl Candidate {
@@ -547,10 +612,10 @@ pub struct Options {
     /// Judge candidates on the sliding samples alone, without the breakaway evidence (an
     /// ablation, to measure what that evidence changes).
     pub ignore_breakaway: bool,
-    /// An experiment, off by default (session 21; see the README): leave out of every fit and
-    /// score the samples the measured motion does not resolve ([`unresolved`]), with this
-    /// floor under the threshold (a fraction of the scored force rms), after a first
-    /// baseline. On the calibration seeds it did not beat the rule as it is.
+    /// An experiment, off by default (session 21; see `docs/diagnosis-log.md`): leave out of
+    /// every fit and score the samples the measured motion does not resolve ([`unresolved`]),
+    /// with this floor under the threshold (a fraction of the scored force rms), after a
+    /// first baseline. On the calibration seeds it did not beat the rule as it is.
     pub leave_out_unresolved: Option<f64>,
     /// Score every moving sample alike, without the motion weights ([`motion_weights`]): the
     /// rule until session 23, for comparison. The significance cut stays [`MIN_ERROR_CUT`];
@@ -1239,6 +1304,13 @@ fn prefer_nested(
         let with_nested = stage_fit(nested, simpler, p, fixed_mass, n_eff);
         let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
         if let Some(c) = on_top.filter(|c| !c.significant) {
+            out[j].kept_over_larger = Some(NestedCheck {
+                larger,
+                kept: nested,
+                kept_rel_err_pct: with_nested.rel_err_pct,
+                larger_on_top_rel_err_pct: c.rel_err_pct,
+                larger_on_top_cut: c.error_cut,
+            });
             let why = format!(
                 "it contains {nested} as a special case, and with {nested} added ({:.2} %) it cuts the error by {:.0} % only{}: the simpler {nested} explains the record",
                 with_nested.rel_err_pct,
@@ -1286,14 +1358,26 @@ fn larger_on_top(
     let with_nested = stage_fit(nested, simpler, p, fixed_mass, n_eff);
     let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
     let s = &mut out[first];
-    if let Some(c) = on_top.filter(|c| c.significant) {
-        s.caution = Some(format!(
-            "{larger}, which contains it as a special case, cuts the error by a further {:.0} % with {nested} added ({:.2} %): the larger {larger} explains the record",
-            100.0 * c.error_cut,
-            with_nested.rel_err_pct,
-        ));
-        s.significant = false;
-        s.detected = false;
+    match on_top {
+        Some(c) if c.significant => {
+            s.caution = Some(format!(
+                "{larger}, which contains it as a special case, cuts the error by a further {:.0} % with {nested} added ({:.2} %): the larger {larger} explains the record",
+                100.0 * c.error_cut,
+                with_nested.rel_err_pct,
+            ));
+            s.significant = false;
+            s.detected = false;
+        }
+        // a skipped larger effect has no error
+        c => {
+            s.kept_over_larger = Some(NestedCheck {
+                larger,
+                kept: nested,
+                kept_rel_err_pct: with_nested.rel_err_pct,
+                larger_on_top_rel_err_pct: c.as_ref().and_then(|c| c.rel_err_pct),
+                larger_on_top_cut: c.map_or(0.0, |c| c.error_cut),
+            })
+        }
     }
     s.staged = Some(with_nested);
 }
@@ -1558,6 +1642,7 @@ fn score(
         staged: None,
         fitted_before_restart: false,
         settled_as_stage: false,
+        kept_over_larger: None,
     };
     if cand.skipped.is_some() {
         return cand;
@@ -1662,11 +1747,11 @@ fn score(
 /// The smallest relative cut of the model's error for which a candidate effect is reported as
 /// significant. Calibrated on the independent axis generator's calibration seeds
 /// (`examples/axis_suite.rs --calibration`: 50 effect-free records from seed 100, 80 with an
-/// effect from seed 1000; see the README): on effect-free records the plain model is
-/// structurally right, yet flexible candidates absorb a few percent of the residual left by
-/// the measurement pipeline (filtering, differentiation, sampling) with dBIC in the hundreds
-/// on thousands of effective samples, while a missing effect that matters cuts the error by far
-/// more. A statistically detectable change smaller than this is not an engineering finding.
+/// effect from seed 1000; see `docs/diagnosis-log.md`, the calibration curve): on effect-free
+/// records the plain model is structurally right, yet flexible candidates absorb a few percent
+/// of the residual left by the measurement pipeline (filtering, differentiation, sampling)
+/// with dBIC in the hundreds on thousands of effective samples, while a missing effect that
+/// matters cuts the error by far more. A statistically detectable change smaller than this is not an engineering finding.
 /// The cut is the smallest on that curve with at most 2 false positives of 50 (4 %, under the
 /// 5 % target). Session 23's curve, with the motion weights ([`motion_weights`]): 0.12 gave 3
 /// false positives and 71 right, 0.15 gave 2 and 71, 0.20 gave 1 and 69. Scoring every moving
@@ -1799,6 +1884,7 @@ fn judge(
         staged: None,
         fitted_before_restart: false,
         settled_as_stage: false,
+        kept_over_larger: None,
     }
 }
 
@@ -2442,6 +2528,7 @@ mod tests {
             nonlinear_excludes_null: true,
             fitted_before_restart: false,
             settled_as_stage: false,
+            kept_over_larger: None,
         }
     }
 

@@ -282,6 +282,12 @@ fn verdict(c: &super::Candidate) -> String {
     if c.settled_as_stage {
         v += &format!(" ({})", super::SETTLED_AS_STAGE);
     }
+    if let Some(n) = c.kept_over_larger.filter(|_| c.significant) {
+        v += &format!(
+            " (kept over {}, which contains it: see the top of the page)",
+            n.larger
+        );
+    }
     v
 }
 
@@ -541,10 +547,13 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     if let Some(c) = first.candidates.iter().find(|c| c.significant) {
         if d.stages.len() == 1 {
             out += &format!(
-                "<p>Most likely missing effect: <b>{}</b> ({}). Add it with <code>--add {}</code>.</p>",
+                "<p>Most likely missing effect: <b>{}</b> ({}). Add it with <code>--add {}</code>.{}</p>",
                 escape(c.kind.name()),
                 escape(&c.meaning),
-                escape(c.kind.name())
+                escape(c.kind.name()),
+                c.kept_over_larger
+                    .map(|n| format!(" It was {}.", escape(&n.to_string())))
+                    .unwrap_or_default()
             );
         }
     } else if let Some((c, why)) = first.near_miss().filter(|_| d.stages.len() == 1) {
