@@ -394,8 +394,8 @@ impl core::fmt::Display for NestedCheck {
         match self.larger_on_top_rel_err_pct {
             Some(on_top) => write!(
                 f,
-                "({:.2} %), {larger} on top cuts the error by a further {:.0} % (to {on_top:.2} %), \
-                 and a significant effect cuts {:.0} %",
+                "({:.2} %), {larger} on top cuts the error by a further {:.0} % \
+                 (to {on_top:.2} %), and a significant effect cuts {:.0} %",
                 self.kept_rel_err_pct,
                 100.0 * self.larger_on_top_cut,
                 100.0 * MIN_ERROR_CUT
@@ -413,10 +413,10 @@ impl core::fmt::Display for NestedCheck {
             // breakaway, direction by direction
             write!(
                 f,
-                ". To separate them, record constant-speed moves in each direction over a wide speed range \
-                 (an asymmetry's viscous slope differs by direction, an offset's does not) and \
-                 breakaways in each direction (an offset shifts the static and the Coulomb \
-                 level by the same force)"
+                ". To separate them, record constant-speed moves in each direction over a wide \
+                 speed range (an asymmetry's viscous slope differs by direction, an offset's \
+                 does not) and breakaways in each direction (an offset shifts the static and \
+                 the Coulomb level by the same force)"
             )?;
         }
         Ok(())
@@ -1751,13 +1751,13 @@ fn score(
 /// records the plain model is structurally right, yet flexible candidates absorb a few percent
 /// of the residual left by the measurement pipeline (filtering, differentiation, sampling)
 /// with dBIC in the hundreds on thousands of effective samples, while a missing effect that
-/// matters cuts the error by far more. A statistically detectable change smaller than this is not an engineering finding.
-/// The cut is the smallest on that curve with at most 2 false positives of 50 (4 %, under the
-/// 5 % target). Session 23's curve, with the motion weights ([`motion_weights`]): 0.12 gave 3
-/// false positives and 71 right, 0.15 gave 2 and 71, 0.20 gave 1 and 69. Scoring every moving
-/// sample alike (session 20's curve), 0.15 gave 3 and 69, 0.20 gave 2 and 69, so that rule's
-/// cut was 0.20 (session 10 set it; session 8 chose 0.15 on a pipeline that scored edge
-/// transients and readings at rest).
+/// matters cuts the error by far more. A statistically detectable change smaller than this
+/// is not an engineering finding. The cut is the smallest on that curve with at most 2 false
+/// positives of 50 (4 %, under the 5 % target). Session 23's curve, with the motion weights
+/// ([`motion_weights`]): 0.12 gave 3 false positives and 71 right, 0.15 gave 2 and 71, 0.20
+/// gave 1 and 69. Scoring every moving sample alike (session 20's curve), 0.15 gave 3 and 69,
+/// 0.20 gave 2 and 69, so that rule's cut was 0.20 (session 10 set it; session 8 chose 0.15 on
+/// a pipeline that scored edge transients and readings at rest).
 pub const MIN_ERROR_CUT: f64 = 0.15;
 
 /// The error cut a candidate is judged by (a fraction: `1 - candidate / reference`), of the
