@@ -357,7 +357,8 @@ pub struct Candidate {
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub settled_as_stage: bool,
     /// Where this candidate is the simpler effect of a nested pair ([`NESTED`]) and the
-    /// answer: the larger effect judged on top of it, and why the simpler one was kept.
+    /// answer: the larger effect judged on top of it, and why the simpler one was kept (in a
+    /// stage's candidates, only on a significant one).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kept_over_larger: Option<NestedCheck>,
 }
@@ -2447,6 +2448,11 @@ fn stage(
         timed(&mut times.close_calls_s, || {
             settle_close_call(&mut candidates, p, brk, &fit, fixed_mass, n_eff)
         });
+        // the nested check's verdict is said with an answer: a candidate the settlement left
+        // not significant does not carry it
+        for c in candidates.iter_mut().filter(|c| !c.significant) {
+            c.kept_over_larger = None;
+        }
         (fit, candidates, restarts)
     } else {
         (fit, Vec::new(), Vec::new())
