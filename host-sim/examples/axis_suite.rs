@@ -55,6 +55,22 @@ const NEVER_RUN: [(&str, u64, u64); 5] = [
 /// A record to run: its hidden effect (`None`: effect-free), seed and the set it belongs to.
 type Job = (Option<&'static str>, u64, &'static str);
 
+/// The held-out seeds' first seeds: effect-free, and the first effect's (see [`block`]).
+const HELD_OUT: (u64, u64) = (500, 20_000);
+/// The calibration seeds' first seeds, the ones the significance rule was set on.
+const CALIBRATION: (u64, u64) = (100, 1000);
+
+/// A seed set: `free` effect-free records from seed `first.0`, and `per_effect` records of
+/// each effect `k` (in [`EFFECTS`]' order) from seed `first.1 + 100 k`.
+fn block(set: &'static str, first: (u64, u64), free: u64, per_effect: u64) -> Vec<Job> {
+    let mut jobs: Vec<Job> = (first.0..first.0 + free).map(|s| (None, s, set)).collect();
+    for (k, e) in EFFECTS.iter().enumerate() {
+        let from = first.1 + 100 * k as u64;
+        jobs.extend((from..from + per_effect).map(|s| (Some(*e), s, set)));
+    }
+    jobs
+}
+
 #[derive(serde::Serialize)]
 struct Row {
     /// the set the record belongs to (held-out, calibration, a never-run set, `--seeds`)
@@ -143,25 +159,20 @@ fn main() {
     // The significance rule was calibrated on the calibration seeds (effect-free 100.., effects
     // 1000..); the table is reported on held-out seeds unless --calibration is given.
     let calibration = args.iter().any(|a| a == "--calibration");
-    let (free0, eff0, set) = if calibration {
-        (100, 1000, "calibration")
+    let mut jobs = if args.iter().any(|a| a == "--unseen") {
+        unseen()
+    } else if calibration {
+        block("calibration", CALIBRATION, free, per_effect)
     } else {
-        (500, 20_000, "held-out")
+        block("held-out", HELD_OUT, free, per_effect)
     };
-    let mut jobs: Vec<Job> = (0..free).map(|s| (None, free0 + s, set)).collect();
     // `--only EFFECT`: that effect's records (and the effect-free ones) only
-    let only = args
+    if let Some(only) = args
         .iter()
         .position(|a| a == "--only")
-        .and_then(|i| args.get(i + 1).cloned());
-    for (k, e) in EFFECTS.iter().enumerate() {
-        if only.as_deref().is_some_and(|o| o != *e) {
-            continue;
-        }
-        jobs.extend((0..per_effect).map(|s| (Some(*e), eff0 + 100 * k as u64 + s, set)));
-    }
-    if args.iter().any(|a| a == "--unseen") {
-        jobs = unseen();
+        .and_then(|i| args.get(i + 1))
+    {
+        jobs.retain(|(e, _, _)| e.is_none_or(|e| e == only));
     }
     // `--seeds EFFECT:SEED,...` (`none` for effect-free): exactly those records
     if let Some(list) = args
@@ -252,11 +263,8 @@ fn main() {
     };
     for e in EFFECTS {
         let rs: Vec<&Row> = rows.iter().filter(|r| r.hidden == e).collect();
-        let right = rs
-            .iter()
-            .filter(|r| r.first_significant.as_deref() == Some(e))
-            .count();
-        line(e, rs.len(), Some(right), tally(&rs, e, |r| r.floor_pct));
+        let right = rs.iter().filter(|r| r.named_right()).count();
+        line(e, rs.len(), Some(right), tally(&rs, |r| r.floor_pct));
     }
     // The dwell clock is the one hidden state of a truth the measured motion cannot drive: its
     // clock restarts at any stick of the contact, which the 1 um counts neither show nor
@@ -267,7 +275,7 @@ fn main() {
         .filter(|r| r.hidden == "dwell_stiction")
         .collect();
     if !dw.is_empty() {
-        let t = tally(&dw, "dwell_stiction", |r| r.floor_measured_clock_pct);
+        let t = tally(&dw, |r| r.floor_measured_clock_pct);
         line("  its clock on the motion", dw.len(), None, t);
     }
     // An asymmetry whose Coulomb and static shifts are nearly the same force, and whose
@@ -281,11 +289,7 @@ fn main() {
         let (like, unlike): (Vec<&Row>, Vec<&Row>) = asym
             .iter()
             .partition(|r| r.offset_in_place_pct <= 1.2 * r.floor_pct);
-        let right = |rs: &[&Row]| {
-            rs.iter()
-                .filter(|r| r.first_significant.as_deref() == Some("asymmetry"))
-                .count()
-        };
+        let right = |rs: &[&Row]| rs.iter().filter(|r| r.named_right()).count();
         println!(
             "  an offset in its place within 1.2x the floor on {} of {} (right on {}); right on {} of the {} others",
             like.len(),
@@ -337,6 +341,11 @@ fn main() {
 }
 
 impl Row {
+    /// The first significant candidate is the hidden effect.
+    fn named_right(&self) -> bool {
+        self.first_significant.as_deref() == Some(self.hidden.as_str())
+    }
+
     /// An effect-free record with a significant effect, or one the diagnosis refused.
     fn false_positive(&self) -> bool {
         self.error.is_some() || self.first_significant.is_some()
@@ -345,16 +354,9 @@ impl Row {
 
 /// The held-out seeds (10 per effect, 50 effect-free) and every never-run set ([`NEVER_RUN`]).
 fn unseen() -> Vec<Job> {
-    let mut jobs: Vec<Job> = (500..550).map(|s| (None, s, "held-out")).collect();
-    for (k, e) in EFFECTS.iter().enumerate() {
-        jobs.extend((0..10).map(|s| (Some(*e), 20_000 + 100 * k as u64 + s, "held-out")));
-    }
+    let mut jobs = block("held-out", HELD_OUT, 50, 10);
     for (set, free0, offset) in NEVER_RUN {
-        jobs.extend((free0..free0 + 30).map(|s| (None, s, set)));
-        for (k, e) in EFFECTS.iter().enumerate() {
-            let first = 20_000 + 100 * k as u64 + offset;
-            jobs.extend((first..first + 5).map(|s| (Some(*e), s, set)));
-        }
+        jobs.extend(block(set, (free0, HELD_OUT.1 + offset), 30, 5));
     }
     jobs
 }
@@ -374,14 +376,8 @@ fn per_set(rows: &[Row]) {
     for set in sets {
         let rs: Vec<&Row> = rows.iter().filter(|r| r.set == set).collect();
         let (with, none): (Vec<&Row>, Vec<&Row>) = rs.iter().partition(|r| r.hidden != "none");
-        let right = with
-            .iter()
-            .filter(|r| r.first_significant.as_deref() == Some(r.hidden.as_str()))
-            .count();
-        let close = with
-            .iter()
-            .filter(|r| r.error.is_none() && r.added_pct <= 1.2 * r.floor_pct)
-            .count();
+        let right = with.iter().filter(|r| r.named_right()).count();
+        let close = tally(&with, |r| r.floor_pct).close;
         let fp = none.iter().filter(|r| r.false_positive()).count();
         println!(
             "{set:<16} {:>11} of {:>3} {:>11} of {:>3} {:>11} of {:>3}",
@@ -422,17 +418,14 @@ struct Tally {
     resolved_right: usize,
 }
 
-/// The floor columns of `rs` (records of `effect`) against the floor `floor` reads [%].
-fn tally(rs: &[&Row], effect: &str, floor: impl Fn(&Row) -> f64) -> Tally {
+/// The floor columns of `rs` against the floor `floor` reads [%].
+fn tally(rs: &[&Row], floor: impl Fn(&Row) -> f64) -> Tally {
     let ok: Vec<&&Row> = rs.iter().filter(|r| r.error.is_none()).collect();
     let resolved: Vec<&&&Row> = ok.iter().filter(|r| floor(r) < r.baseline_pct).collect();
     Tally {
         close: ok.iter().filter(|r| r.added_pct <= 1.2 * floor(r)).count(),
         resolved: resolved.len(),
-        resolved_right: resolved
-            .iter()
-            .filter(|r| r.first_significant.as_deref() == Some(effect))
-            .count(),
+        resolved_right: resolved.iter().filter(|r| r.named_right()).count(),
     }
 }
 
@@ -554,10 +547,10 @@ fn run(effect: Option<&'static str>, seed: u64, set: &'static str, sensors: Sens
         shape: generators::axis::Shape::None,
         ..axis.clone()
     };
-    row.without_effect_pct = along(&without);
+    let without_force = generators::axis::truth_force(&without, p);
+    row.without_effect_pct = p.rel_err_pct(&without_force);
     if effect == Some("asymmetry") {
-        row.offset_in_place_pct =
-            offset_in_place_pct(p, &generators::axis::truth_force(&without, p));
+        row.offset_in_place_pct = offset_in_place_pct(p, &without_force);
     }
     let cands = &d.stages[0].candidates;
     row.first = cands

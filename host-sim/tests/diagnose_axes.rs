@@ -172,7 +172,8 @@ fn an_offset_is_not_read_as_the_asymmetry_that_contains_it() {
 /// nor significant, its caution says why (`why` in it), and the hidden effect is the first
 /// significant candidate.
 fn nested_answer((hidden, seed): (&'static str, u64), set_aside: &str, why: &str) {
-    let (d, _) = diagnose(Some(hidden), seed, &[]);
+    // the hidden effect added too: the kept one's check states the error its stage reaches
+    let (d, _) = diagnose(Some(hidden), seed, &[hidden]);
     let c = &d.stages[0].candidates;
     println!("{}", report(&d));
     let named = |n: &str| c.iter().find(|c| c.kind.name() == n).unwrap();
@@ -187,7 +188,7 @@ fn nested_answer((hidden, seed): (&'static str, u64), set_aside: &str, why: &str
     assert!(caution.contains(why), "{caution}");
     assert_eq!(first_significant(c), Some(hidden), "{}", report(&d));
     if hidden == "offset" {
-        kept_says_why(answer, set_aside);
+        kept_says_why(answer, set_aside, &d);
     } else {
         assert!(answer.kept_over_larger.is_none());
     }
@@ -211,7 +212,7 @@ fn an_asymmetry_is_not_read_as_the_offset_it_contains() {
 /// two errors the check weighed.
 #[test]
 fn the_nested_check_judges_on_the_stage_fit() {
-    let (d, _) = diagnose(Some("offset"), 20137, &[]);
+    let (d, _) = diagnose(Some("offset"), 20137, &["offset"]);
     let c = &d.stages[0].candidates;
     println!("{}", report(&d));
     let first = c.iter().find(|c| c.significant);
@@ -222,20 +223,25 @@ fn the_nested_check_judges_on_the_stage_fit() {
         report(&d)
     );
     assert!(first.is_some_and(|c| c.caution.is_none()));
-    kept_says_why(first.unwrap(), "asymmetry");
+    kept_says_why(first.unwrap(), "asymmetry", &d);
 }
 
 /// The simpler effect of a nested pair, kept as the answer, carries the check that kept it:
-/// `larger` judged on top of it, with a cut under the decision's, both errors, and a sentence
-/// saying what would separate the two.
-fn kept_says_why(kept: &diagnose::Candidate, larger: &str) {
+/// `larger` judged on top of it, with a cut under the decision's, the error of the stage that
+/// adding the kept effect gives (`d`'s second stage), and a sentence saying what would
+/// separate the two.
+fn kept_says_why(kept: &diagnose::Candidate, larger: &str, d: &Diagnosis) {
     let n = kept.kept_over_larger.expect("the check that kept it");
     assert_eq!((n.larger.name(), n.kept), (larger, kept.kind));
-    assert!(n.larger_on_top_cut < diagnose::MIN_ERROR_CUT, "{n}");
-    let on_top = n.larger_on_top_rel_err_pct.expect("tested");
+    assert!(n.larger_on_top_rel_err_pct.is_some(), "tested: {n}");
     assert!(
-        (1.0 - on_top / n.kept_rel_err_pct - n.larger_on_top_cut).abs() < 1e-9,
-        "the cut is the one between the two errors: {n}"
+        n.larger_on_top_cut().unwrap() < diagnose::MIN_ERROR_CUT,
+        "{n}"
+    );
+    assert_eq!(d.stages[1].effect, Some(kept.kind));
+    assert_eq!(
+        n.kept_rel_err_pct, d.stages[1].fit.rel_err_pct,
+        "the check's stage is the one added"
     );
     let said = n.to_string();
     assert!(

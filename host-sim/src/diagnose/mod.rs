@@ -357,8 +357,9 @@ pub struct Candidate {
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub settled_as_stage: bool,
     /// Where this candidate is the simpler effect of a nested pair ([`NESTED`]) and the
-    /// answer: the larger effect judged on top of it, and why the simpler one was kept (in a
-    /// stage's candidates, only on a significant one).
+    /// answer: the larger effect judged on top of it, and why the simpler one was kept (only on
+    /// a significant candidate: a close call judged again keeps it while it stays significant,
+    /// `polish_again`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kept_over_larger: Option<NestedCheck>,
 }
@@ -375,14 +376,37 @@ pub struct NestedCheck {
     /// The kept effect, whose candidate this is (serialised by its name).
     #[serde(serialize_with = "effect_name")]
     pub kept: EffectKind,
-    /// The error with the kept effect fitted as a stage [%].
+    /// The error with the kept effect fitted as a stage [%] (the stage `--add` then adds).
     pub kept_rel_err_pct: f64,
     /// The error with the larger effect on top of it [%] (absent: it could not be tested).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub larger_on_top_rel_err_pct: Option<f64>,
-    /// The larger effect's error cut there, a fraction (the decision weighs it against
-    /// [`MIN_ERROR_CUT`]; 0 when it could not be tested).
-    pub larger_on_top_cut: f64,
+}
+
+impl NestedCheck {
+    /// The check's numbers: `kept` fitted as a stage (`with_kept`), and `larger` judged on top
+    /// of it (`on_top`; `None` where it could not be tested).
+    fn new(
+        larger: EffectKind,
+        kept: EffectKind,
+        with_kept: &Fit,
+        on_top: Option<&Candidate>,
+    ) -> Self {
+        Self {
+            larger,
+            kept,
+            kept_rel_err_pct: with_kept.rel_err_pct,
+            larger_on_top_rel_err_pct: on_top.and_then(|c| c.rel_err_pct),
+        }
+    }
+
+    /// The cut of the error the larger effect makes on top of the kept one, a fraction: the
+    /// decision's cut (`decision_cut`; the nested effects are not `dwell_stiction`, whose
+    /// reference differs), which fell short of [`MIN_ERROR_CUT`].
+    pub fn larger_on_top_cut(&self) -> Option<f64> {
+        self.larger_on_top_rel_err_pct
+            .map(|on_top| 1.0 - on_top / self.kept_rel_err_pct)
+    }
 }
 
 impl core::fmt::Display for NestedCheck {
@@ -392,16 +416,16 @@ impl core::fmt::Display for NestedCheck {
             f,
             "kept over {larger}, which contains it: with {kept} added "
         )?;
-        match self.larger_on_top_rel_err_pct {
-            Some(on_top) => write!(
+        match (self.larger_on_top_rel_err_pct, self.larger_on_top_cut()) {
+            (Some(on_top), Some(cut)) => write!(
                 f,
                 "({:.2} %), {larger} on top cuts the error by a further {:.0} % \
                  (to {on_top:.2} %), and a significant effect cuts {:.0} %",
                 self.kept_rel_err_pct,
-                100.0 * self.larger_on_top_cut,
+                100.0 * cut,
                 100.0 * MIN_ERROR_CUT
             )?,
-            None => write!(
+            _ => write!(
                 f,
                 "({:.2} %), {larger} on top could not be tested",
                 self.kept_rel_err_pct
@@ -1305,13 +1329,8 @@ fn prefer_nested(
         let with_nested = stage_fit(nested, simpler, p, fixed_mass, n_eff);
         let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
         if let Some(c) = on_top.filter(|c| !c.significant) {
-            out[j].kept_over_larger = Some(NestedCheck {
-                larger,
-                kept: nested,
-                kept_rel_err_pct: with_nested.rel_err_pct,
-                larger_on_top_rel_err_pct: c.rel_err_pct,
-                larger_on_top_cut: c.error_cut,
-            });
+            out[j].kept_over_larger =
+                Some(NestedCheck::new(larger, nested, &with_nested, Some(&c)));
             let why = format!(
                 "it contains {nested} as a special case, and with {nested} added ({:.2} %) it cuts the error by {:.0} % only{}: the simpler {nested} explains the record",
                 with_nested.rel_err_pct,
@@ -1369,16 +1388,7 @@ fn larger_on_top(
             s.significant = false;
             s.detected = false;
         }
-        // a skipped larger effect has no error
-        c => {
-            s.kept_over_larger = Some(NestedCheck {
-                larger,
-                kept: nested,
-                kept_rel_err_pct: with_nested.rel_err_pct,
-                larger_on_top_rel_err_pct: c.as_ref().and_then(|c| c.rel_err_pct),
-                larger_on_top_cut: c.map_or(0.0, |c| c.error_cut),
-            })
-        }
+        c => s.kept_over_larger = Some(NestedCheck::new(larger, nested, &with_nested, c.as_ref())),
     }
     s.staged = Some(with_nested);
 }
@@ -1507,9 +1517,13 @@ fn polish_again(
             let info = effect_info(c.kind);
             let rest_null = rest_independent_twin(p, fixed_mass, brk, info, reference, &f, n_eff);
             let (params, nl) = (c.parameters.clone(), c.nonlinear_excludes_null);
+            let judged = judge(brk, reference, info, f, params, nl, rest_null, n_judge);
             out[i] = Candidate {
                 fitted_before_restart: c.fitted_before_restart,
-                ..judge(brk, reference, info, f, params, nl, rest_null, n_judge)
+                // the nested check judged the larger effect on top of this one as a stage,
+                // not on this fit: its verdict stands while this stays an answer
+                kept_over_larger: c.kept_over_larger.filter(|_| judged.significant),
+                ..judged
             };
         }
     }
@@ -2448,11 +2462,6 @@ fn stage(
         timed(&mut times.close_calls_s, || {
             settle_close_call(&mut candidates, p, brk, &fit, fixed_mass, n_eff)
         });
-        // the nested check's verdict is said with an answer: a candidate the settlement left
-        // not significant does not carry it
-        for c in candidates.iter_mut().filter(|c| !c.significant) {
-            c.kept_over_larger = None;
-        }
         (fit, candidates, restarts)
     } else {
         (fit, Vec::new(), Vec::new())

@@ -283,10 +283,16 @@ fn verdict(c: &super::Candidate) -> String {
         v += &format!(" ({})", super::SETTLED_AS_STAGE);
     }
     if let Some(n) = c.kept_over_larger.filter(|_| c.significant) {
-        v += &format!(
-            " (kept over {}, which contains it: see the top of the page)",
-            n.larger
-        );
+        // the whole sentence opens a one-stage page; a cell holds its numbers
+        v += &format!(" (kept over {}, which contains it", n.larger);
+        if let Some(cut) = n.larger_on_top_cut() {
+            v += &format!(
+                ": on top of it {} cuts the error by {:.0} % only",
+                n.larger,
+                100.0 * cut
+            );
+        }
+        v += ")";
     }
     v
 }
