@@ -91,6 +91,10 @@ pub struct JsonOut<'a> {
     /// What it leaves in the scored band, rms \[N\]: the scale of a candidate's
     /// `explained_rms_n`.
     pub force_noise_in_band_n: f64,
+    /// What each stage's model leaves against what the measurement accounts for, baseline
+    /// first (`diagnose::Unexplained`; beyond `diagnose::UNEXPLAINED_RATIO` the friction has a
+    /// form none of the effects describes).
+    pub unexplained: Vec<(String, diagnose::Unexplained)>,
     /// Where the final model fails.
     pub regimes: &'a diagnose::regimes::RegimeReport,
     /// Departures from rest: breakaway peaks, holding forces, the dwell trend.
@@ -196,6 +200,11 @@ pub fn run(a: &Args) -> Result<()> {
             motion_spread_pct: d.motion_spread_pct,
             force_noise_n: d.prepared.force_noise_n,
             force_noise_in_band_n: d.prepared.force_noise_in_band_n,
+            unexplained: d
+                .stages
+                .iter()
+                .map(|s| (s.label.clone(), d.unexplained(s)))
+                .collect(),
             regimes: &last.regimes,
             breakaway: &d.breakaway,
             position_cutoff_hz: d.prepared.position_cutoff_hz,
@@ -402,6 +411,8 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
         for (name, why) in &s.fit.flags.priors {
             println!("   not identifiable: {name}: {why}");
         }
+        let unexplained = d.unexplained(s);
+        println!("   {unexplained}");
         println!("   where it fails:");
         for f in &s.regimes.findings {
             println!("   - {f}");
@@ -484,7 +495,13 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                         "   no candidate effect is significant; the leading one, {}, is {why}",
                         c.kind
                     ),
-                    None => println!("   no candidate effect is significant: the model explains what this record shows"),
+                    None if !unexplained.beyond_measurement() => println!(
+                        "   no candidate effect is significant: the model explains what this record shows"
+                    ),
+                    None => println!("   no candidate effect is significant, and {}", diagnose::BEYOND_THE_EIGHT),
+                }
+                if unexplained.beyond_measurement() && s.near_miss().is_some() {
+                    println!("   {}", diagnose::BEYOND_THE_EIGHT);
                 }
             }
         }

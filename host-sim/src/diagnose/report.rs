@@ -5,7 +5,7 @@
 //! 3. the friction bias per regime (first and final model);
 //! 4. the error after each added effect, against the noise floor.
 
-use super::{Diagnosis, Stage};
+use super::{Diagnosis, Stage, BEYOND_THE_EIGHT};
 use crate::chart::{self, Bars, Frame, Line, Panel, FINAL_MODEL, FIRST_MODEL};
 use crate::error::Result;
 
@@ -569,6 +569,20 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
             escape(&why),
         );
     }
+    // what the final model leaves, against what the measurement accounts for
+    let unexplained = d.unexplained(last);
+    out += &format!(
+        "<p>What the final model leaves: {}.{}</p>",
+        escape(&unexplained.to_string()),
+        if unexplained.beyond_measurement() && !last.candidates.iter().any(|c| c.significant) {
+            format!(
+                " <b>No candidate is significant, and {}.</b>",
+                escape(BEYOND_THE_EIGHT)
+            )
+        } else {
+            String::new()
+        }
+    );
     out += "<p>Error = 100 ||F - F_hat|| / ||F|| on the force filtered at 20 Hz, over the samples where the axis moves \
             (while stuck, friction balances whatever force is applied and cannot be predicted from the motion).</p>";
     out += &format!(

@@ -183,6 +183,100 @@ pub struct Axis {
     pub dwell_trace: Option<DwellTrace>,
     /// What the record's sensors resolve.
     pub sensors: Sensors,
+    /// The contact underneath: LuGre unless a suite asks for another ([`random_record_on`]).
+    pub contact: Contact,
+}
+
+/// The friction contact under the effects: what the force does between the Stribeck curve
+/// `g(v)` (with any hidden effect applied) and the body's motion.
+#[derive(Clone, Debug)]
+pub enum Contact {
+    /// LuGre: one bristle deflection z (the module's equations).
+    LuGre,
+    /// Generalized Maxwell-slip ([`Maxwell`]), a model our diagnosis does not contain.
+    Maxwell(Maxwell),
+}
+
+/// Generalized Maxwell-slip contact (Lampaert, Al-Bender and Swevers' structure, written from
+/// its description): elastic-slip elements in parallel, element i with stiffness `k_i` and a
+/// share `a_i` of the curve (`sum a_i = 1`). A sticking element's force follows the motion,
+/// `dF_i/dt = k_i v`, until it reaches `a_i g(v)`; then it slips, its force drawn towards
+/// `a_i g(v) sign(v)` at a finite rate (frictional lag in time),
+/// `dF_i/dt = C (a_i g(v) sign(v) - F_i)`, and sticks again when the motion reverses or stops.
+///
+/// ```text
+/// F = sum F_i + sigma1 v (share of elements sticking) + F_visc(v) + F_extra
+/// ```
+///
+/// Unlike LuGre, its presliding hysteresis has nonlocal memory (each element remembers where it
+/// last slipped) and its sliding force lags speed changes by `1/C` seconds: the diagnosis's
+/// baseline is a wrong model for it.
+#[derive(Clone, Debug)]
+pub struct Maxwell {
+    /// Per element: stiffness [N/m] and share of the curve (the shares sum to 1).
+    pub elements: Vec<(f64, f64)>,
+    /// Rate C at which a slipping element's force follows the curve [1/s].
+    pub lag_rate_per_s: f64,
+}
+
+impl Maxwell {
+    /// Elements for `axis`, drawn from their own generator seeded by `seed` (the axis's own
+    /// draws are untouched, so a seed's LuGre and Maxwell records share everything else): 3..8
+    /// elements, each breaking away after 0.1..3 times the LuGre draw's presliding length
+    /// `Fs / sigma0`, and a lag rate of 30..1000 1/s.
+    pub fn random(axis: &Axis, seed: u64) -> Self {
+        let mut rng = Rng::new(seed ^ 0x6D61_7877_656C_6C53);
+        let n = 3 + (rng.uniform() * 6.0) as usize;
+        let raw: Vec<f64> = (0..n).map(|_| rng.range(0.2, 1.0)).collect();
+        let total: f64 = raw.iter().sum();
+        let presliding_m = axis.static_n / axis.sigma0;
+        let elements = raw
+            .iter()
+            .map(|r| {
+                let share = r / total;
+                let break_m = presliding_m * rng.log_range(0.1, 3.0);
+                (share * axis.static_n / break_m, share)
+            })
+            .collect();
+        Self {
+            elements,
+            lag_rate_per_s: rng.log_range(30.0, 1000.0),
+        }
+    }
+}
+
+/// Which contact a suite's records have (`--contact maxwell` on a benchmark's command line).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum ContactKind {
+    /// LuGre (every suite until session 42).
+    #[default]
+    LuGre,
+    /// Generalized Maxwell-slip.
+    Maxwell,
+}
+
+impl ContactKind {
+    /// `--contact lugre|maxwell` (LuGre without it); another value is a panic that names it.
+    #[allow(dead_code)]
+    pub fn from_args(args: &[String]) -> Self {
+        match args
+            .iter()
+            .position(|a| a == "--contact")
+            .map(|i| args.get(i + 1).map(String::as_str))
+        {
+            None | Some(Some("lugre")) => Self::LuGre,
+            Some(Some("maxwell")) => Self::Maxwell,
+            Some(other) => panic!("--contact takes lugre or maxwell, not {other:?}"),
+        }
+    }
+}
+
+/// The contact's state: the LuGre bristle deflection [m], or per Maxwell element its force
+/// [N] and slip direction (0: sticking).
+#[derive(Clone, Debug, Default)]
+pub struct ContactState {
+    z: f64,
+    elements: Vec<(f64, i8)>,
 }
 
 /// The sensors of a record: every suite so far ran with the default (1 um encoder, force
@@ -408,6 +502,18 @@ impl Axis {
             duration_s: 60.0,
             dwell_trace: None,
             sensors: Sensors::default(),
+            contact: Contact::LuGre,
+        }
+    }
+
+    /// The contact at rest, unloaded.
+    pub fn contact_state(&self) -> ContactState {
+        ContactState {
+            z: 0.0,
+            elements: match &self.contact {
+                Contact::LuGre => Vec::new(),
+                Contact::Maxwell(m) => vec![(0.0, 0); m.elements.len()],
+            },
         }
     }
 
@@ -508,13 +614,14 @@ impl Axis {
         (g.max(1e-6), visc, extra)
     }
 
-    /// One friction sub-step of length h at velocity v: advances the bristle state (implicit
-    /// Euler, stable for any stiffness) and returns the friction force and the sliding speed,
-    /// the part of v that is not the bristle's elastic deflection rate (`|v - dz/dt| =
-    /// sigma0 |v| |z| / g`) [m/s].
+    /// One friction sub-step of length h at velocity v: advances the contact (the LuGre
+    /// bristle by implicit Euler, stable for any stiffness; a slipping Maxwell element's lag
+    /// likewise) and returns the friction force and the sliding speed, the part of v that is
+    /// not elastic deflection (LuGre: `|v - dz/dt| = sigma0 |v| |z| / g`; Maxwell: `|v|` times
+    /// the share of elements slipping) [m/s].
     fn friction_step(
         &self,
-        z: &mut f64,
+        st: &mut ContactState,
         v: f64,
         x: f64,
         p_sum: f64,
@@ -523,13 +630,96 @@ impl Axis {
         h: f64,
     ) -> (f64, f64) {
         let (g, visc, extra) = self.terms(v, x, p_sum, temp, dwell);
-        let rate = self.sigma0 * v.abs() / g;
-        *z = (*z + h * v) / (1.0 + h * rate);
-        let zdot = v - rate * *z;
-        (
-            self.sigma0 * *z + self.sigma1 * zdot + visc + extra,
-            (rate * *z).abs(),
-        )
+        match &self.contact {
+            Contact::LuGre => {
+                let rate = self.sigma0 * v.abs() / g;
+                st.z = (st.z + h * v) / (1.0 + h * rate);
+                let zdot = v - rate * st.z;
+                (
+                    self.sigma0 * st.z + self.sigma1 * zdot + visc + extra,
+                    (rate * st.z).abs(),
+                )
+            }
+            Contact::Maxwell(m) => {
+                let dir: i8 = if v > 0.0 {
+                    1
+                } else if v < 0.0 {
+                    -1
+                } else {
+                    0
+                };
+                let (mut elastic, mut slipping) = (0.0, 0.0);
+                for (&(k, share), (f, mode)) in m.elements.iter().zip(st.elements.iter_mut()) {
+                    // a reversal or a stop ends a slip
+                    if *mode != dir {
+                        *mode = 0;
+                    }
+                    let cap = share * g;
+                    if *mode == 0 {
+                        *f += k * v * h;
+                        if dir != 0 && *f * f64::from(dir) >= cap {
+                            *mode = dir;
+                        }
+                    }
+                    if *mode != 0 {
+                        let target = f64::from(*mode) * cap;
+                        let ch = h * m.lag_rate_per_s;
+                        *f = (*f + ch * target) / (1.0 + ch);
+                        slipping += share;
+                    }
+                    elastic += *f;
+                }
+                (
+                    elastic + self.sigma1 * v * (1.0 - slipping) + visc + extra,
+                    v.abs() * slipping,
+                )
+            }
+        }
+    }
+
+    /// At rest the contact carries the applied elastic force `target`, up to the static levels
+    /// `g_fw` forwards and `g_bw` backwards [N]; returns the change of its elastic force [N].
+    fn hold(&self, st: &mut ContactState, target: f64, g_fw: f64, g_bw: f64) -> f64 {
+        match &self.contact {
+            Contact::LuGre => {
+                let zn = (target / self.sigma0).clamp(-g_bw / self.sigma0, g_fw / self.sigma0);
+                let change = self.sigma0 * (zn - st.z);
+                st.z = zn;
+                change
+            }
+            Contact::Maxwell(m) => {
+                // the body moved by a shift d under one count that brings the elements, each
+                // loaded from where it was up to its share of the static level, to the force
+                // at rest: each element keeps its memory (a bisection on d, monotone)
+                let held = target.clamp(-g_bw, g_fw);
+                let before: f64 = st.elements.iter().map(|e| e.0).sum();
+                let loaded = |d: f64| {
+                    m.elements
+                        .iter()
+                        .zip(&st.elements)
+                        .map(|(&(k, share), &(f, _))| {
+                            (f + k * d).clamp(-share * g_bw, share * g_fw)
+                        })
+                        .sum::<f64>()
+                };
+                let softest = m.elements.iter().map(|e| e.0).fold(f64::INFINITY, f64::min);
+                let reach = 2.0 * (g_fw + g_bw) / softest;
+                let (mut lo, mut hi) = (-reach, reach);
+                for _ in 0..100 {
+                    let mid = 0.5 * (lo + hi);
+                    if loaded(mid) < held {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                let d = 0.5 * (lo + hi);
+                for (&(k, share), e) in m.elements.iter().zip(st.elements.iter_mut()) {
+                    *e = ((e.0 + k * d).clamp(-share * g_bw, share * g_fw), 0);
+                }
+                st.elements.iter().map(|e| e.0).sum::<f64>() - before
+            }
+        }
     }
 
     /// The dwell clock: time stuck so far while stuck. Stuck means the contact does not slide
@@ -572,7 +762,8 @@ impl Axis {
         let mut out = vec![0.0; x.len()];
         let h = dt / SUB as f64;
         for r in segments {
-            let (mut z, mut stuck, mut dwell, mut slip) = (0.0, 0.0, 0.0, 0.0);
+            let mut st = self.contact_state();
+            let (mut stuck, mut dwell, mut slip) = (0.0, 0.0, 0.0);
             for i in r.clone() {
                 let v = v_step[i];
                 let ps = p_sum.map_or(200e5, |p| p[i]);
@@ -587,17 +778,14 @@ impl Axis {
                         Some(age) => dwell = age,
                         None => self.clock(slip, h, &mut stuck, &mut dwell),
                     }
-                    (f, slip) = self.friction_step(&mut z, v, xi, ps, tc, dwell, h);
+                    (f, slip) = self.friction_step(&mut st, v, xi, ps, tc, dwell, h);
                 }
                 if let Some((_, force)) = held.filter(|(rest, _)| rest[i]) {
                     // at rest the contact carries what is applied, up to its static level in
                     // each direction (the diagnosis's model is treated alike)
                     let (g_fw, _, extra) = self.terms(1e-12, x[i], ps, tc, dwell);
                     let (g_bw, _, _) = self.terms(-1e-12, x[i], ps, tc, dwell);
-                    let zn = ((force[i] - extra) / self.sigma0)
-                        .clamp(-g_bw / self.sigma0, g_fw / self.sigma0);
-                    f += self.sigma0 * (zn - z);
-                    z = zn;
+                    f += self.hold(&mut st, force[i] - extra, g_fw, g_bw);
                 }
                 out[i] = f;
             }
@@ -799,7 +987,8 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64, Vec<f64>) {
     let mut pb = 0.5 * supply;
     let mut pa = pb * ab / aa;
     let mut spool = 0.0;
-    let (mut x, mut v, mut z) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut x, mut v) = (0.0f64, 0.0f64);
+    let mut contact = axis.contact_state();
     let (mut stuck, mut dwell, mut slip) = (0.0, 0.0, 0.0);
     let mut integral = 0.0;
     let mut x_prev_meas = 0.0;
@@ -817,6 +1006,13 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64, Vec<f64>) {
         },
         axis.effect.unwrap_or("none")
     ));
+    if let Contact::Maxwell(m) = &axis.contact {
+        out.push_str(&format!(
+            "# contact=generalized Maxwell-slip, {} elements, lag {:.0} 1/s\n",
+            m.elements.len(),
+            m.lag_rate_per_s
+        ));
+    }
     out.push_str("t,x,force,x_ref");
     if hyd {
         out.push_str(",p_a,p_b");
@@ -835,7 +1031,7 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64, Vec<f64>) {
         shape: Shape::None,
         ..axis.clone()
     };
-    let (mut z_plain, mut effect_force) = (0.0, 0.0);
+    let (mut contact_plain, mut effect_force) = (plain.contact_state(), 0.0);
     // (sign v, v, effect force, measured force) where the axis moves
     let mut seen: Vec<[f64; 4]> = Vec::with_capacity(n);
     for i in 0..n {
@@ -913,10 +1109,10 @@ fn simulate(axis: &Axis, rng: &mut Rng, xr: &[f64]) -> (String, f64, Vec<f64>) {
             };
             axis.clock(slip, h, &mut stuck, &mut dwell);
             let friction;
-            (friction, slip) = axis.friction_step(&mut z, v, x, pa + pb, temp, dwell, h);
+            (friction, slip) = axis.friction_step(&mut contact, v, x, pa + pb, temp, dwell, h);
             effect_force = friction
                 - plain
-                    .friction_step(&mut z_plain, v, x, pa + pb, temp, dwell, h)
+                    .friction_step(&mut contact_plain, v, x, pa + pb, temp, dwell, h)
                     .0;
             v += h * (actuator - friction) / m;
             x += h * v;
@@ -968,6 +1164,18 @@ pub fn random_record_with(
     seed: u64,
     sensors: Sensors,
 ) -> (String, Axis) {
+    random_record_on(effect, seed, sensors, ContactKind::LuGre)
+}
+
+/// [`random_record_with`] on another contact: the same axis, effect, schedule and noise
+/// sequence, with the friction of `contact` underneath ([`Maxwell::random`] draws its elements
+/// from a generator of their own).
+pub fn random_record_on(
+    effect: Option<&'static str>,
+    seed: u64,
+    sensors: Sensors,
+    contact: ContactKind,
+) -> (String, Axis) {
     let mut last = None;
     for attempt in 0..20u64 {
         let s = seed.wrapping_add(attempt.wrapping_mul(1_000_003));
@@ -975,6 +1183,9 @@ pub fn random_record_with(
             sensors,
             ..Axis::random(effect, s)
         };
+        if contact == ContactKind::Maxwell {
+            axis.contact = Contact::Maxwell(Maxwell::random(&axis, s));
+        }
         let (text, vis, trace) = record_traced(&axis, s.wrapping_mul(7919).wrapping_add(3));
         axis.dwell_trace = Some(DwellTrace(std::sync::Arc::new(trace)));
         if effect.is_none() || vis >= MIN_VISIBILITY {
