@@ -572,8 +572,12 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     // what the final model leaves, against what the measurement accounts for
     let unexplained = d.unexplained(last);
     out += &format!(
-        "<p>What the final model leaves: {}.{}</p>",
-        escape(&unexplained.to_string()),
+        "<p>{}.{}</p>",
+        escape(
+            &unexplained
+                .to_string()
+                .replacen("the model", "The final model", 1)
+        ),
         if unexplained.beyond_measurement() && !last.candidates.iter().any(|c| c.significant) {
             format!(
                 " <b>No candidate is significant, and {}.</b>",
