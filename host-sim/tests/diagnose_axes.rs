@@ -582,7 +582,7 @@ fn a_contact_that_is_not_lugre_is_not_called_explained() {
                 report(&d)
             );
             assert!(first_significant(&d.stages[0].candidates).is_none());
-            ratios.push(u.ratio);
+            ratios.push(u.ratio());
             match contact {
                 ContactKind::LuGre => assert!(!u.beyond_measurement(), "{u}"),
                 ContactKind::Maxwell => {
