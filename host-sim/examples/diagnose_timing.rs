@@ -11,14 +11,15 @@
 //! how many took over 5 s;
 //! `--json F` writes the same; `--encoder-um R`, `--noise-x K` and `--log-hz F` measure every
 //! record through other sensors (`Sensors::from_args`; a coarse count makes the diagnosis fit a
-//! second first baseline, `diagnose::prepare`). Generating a record is not timed. The machine
+//! second first baseline, `diagnose::prepare`); `--contact maxwell` puts a generalized
+//! Maxwell-slip contact under the same axes (`generators::axis::Maxwell`). Generating a record is not timed. The machine
 //! is noisy: compare two builds by running them one after another on the same records, not
 //! against a number.
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_with, Sensors, EFFECTS};
+use generators::axis::{random_record_on, ContactKind, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use std::path::Path;
@@ -59,7 +60,9 @@ fn main() {
         .position(|a| a == "--json")
         .and_then(|i| args.get(i + 1).cloned());
     let sensors = Sensors::from_args(&args);
-    let takes_value = |flag: &str| flag == "--json" || Sensors::FLAGS.contains(&flag);
+    let contact = ContactKind::from_args(&args);
+    let takes_value =
+        |flag: &str| flag == "--json" || flag == "--contact" || Sensors::FLAGS.contains(&flag);
     let mut seeds: Vec<u64> = args
         .iter()
         .enumerate()
@@ -77,7 +80,7 @@ fn main() {
     for &seed in &seeds {
         for effect in std::iter::once(None).chain(EFFECTS.map(Some)) {
             let name = effect.unwrap_or("none");
-            let (text, _) = random_record_with(effect, seed, sensors);
+            let (text, _) = random_record_on(effect, seed, sensors, contact);
             let path = format!("{name}-{seed}.csv");
             let start = Instant::now();
             let rec = Record::parse(&text, Path::new(&path)).expect("a generated record parses");

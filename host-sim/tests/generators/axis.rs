@@ -17,6 +17,9 @@
 //! F = sigma0 z + sigma1 dz/dt + F_visc(v) + F_extra
 //! ```
 //!
+//! or, on request ([`random_record_on`], `--contact maxwell`), a generalized Maxwell-slip contact
+//! ([`Maxwell`]: elastic-slip elements with frictional lag, a model the diagnosis does not
+//! contain) under the same axes, effects, schedules and noise,
 //! with at most one hidden effect, whose **shape differs from the diagnosis's own**: asymmetry
 //! with separate Coulomb, static and viscous ratios; a load dependence that is a power of the
 //! pressure sum; position dependence as a linear gradient, a periodic ripple or a local wear

@@ -1,6 +1,6 @@
 //! Independent record generators for the tests and benchmarks, written from scratch: they share
 //! no code with `host-sim`'s plant or the core's friction model (their own random numbers, their
-//! own LuGre equations integrated with RK4 on a fine grid, their own sensors and loggers), so a
+//! own LuGre equations integrated with RK4 on a fine grid, a Maxwell-slip contact besides, their own sensors and loggers), so a
 //! method that passes on them has not merely inverted its own simulator.
 
 #![allow(dead_code)]
