@@ -241,7 +241,7 @@ fn diagnosis_chapter(out: &Path) -> Result<()> {
     );
     let (was, now) = (d.unexplained(&d.stages[0]), d.unexplained(after));
     println!(
-        "     what the model leaves: {:.1}x -> {:.1}x what the measurement accounts for (force noise and motion reading; above {}x the friction has a form the model does not contain)",
+        "     what the model leaves: {:.1}x -> {:.1}x what the measurement accounts for (force noise and motion reading; above {}x the record shows something the model does not contain)",
         was.ratio(),
         now.ratio(),
         diagnose::UNEXPLAINED_RATIO

@@ -612,7 +612,8 @@ impl core::fmt::Display for Unexplained {
 /// measurement accounts for ([`Unexplained::beyond_measurement`]).
 pub const BEYOND_THE_EIGHT: &str = "none of the eight effects describes what it leaves: the \
      friction has a form the model does not contain (a contact that is not LuGre, with \
-     frictional lag or presliding memory, or an effect of another shape); see where it fails";
+     frictional lag or presliding memory, or an effect of another shape), or the motion is \
+     read less well than its spread over filters shows; see where it fails";
 
 /// A stage's model replaced by a better start: a significant candidate's fit, its effect
 /// switched off again and refitted, beat the model by [`BETTER_START_CUT`] of its error or
