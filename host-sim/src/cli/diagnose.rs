@@ -92,8 +92,9 @@ pub struct JsonOut<'a> {
     /// `explained_rms_n`.
     pub force_noise_in_band_n: f64,
     /// What each stage's model leaves against what the measurement accounts for, baseline
-    /// first (`diagnose::Unexplained`; beyond `diagnose::UNEXPLAINED_RATIO` the friction has a
-    /// form none of the effects describes).
+    /// first (`diagnose::Unexplained`; beyond `diagnose::UNEXPLAINED_RATIO` the record shows
+    /// something the model does not describe, or a motion read worse than its spread over
+    /// filters shows: `diagnose::BEYOND_THE_EIGHT`).
     pub unexplained: Vec<(String, diagnose::Unexplained)>,
     /// Where the final model fails.
     pub regimes: &'a diagnose::regimes::RegimeReport,
