@@ -576,7 +576,7 @@ fn a_contact_that_is_not_lugre_is_not_called_explained() {
             let u = d.unexplained(&d.stages[0]);
             let floor = truth_error_pct(&axis, &d.prepared);
             println!(
-                "seed {seed} {contact:?} ({:?}): baseline {:.2} %, floor {floor:.2} %, {u}; {}",
+                "seed {seed} {contact:?} ({:?}): baseline {:.2} %, floor {floor:.2} %, the model {u}; {}",
                 axis.actuator,
                 d.stages[0].fit.rel_err_pct,
                 report(&d)

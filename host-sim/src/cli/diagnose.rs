@@ -412,8 +412,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
         for (name, why) in &s.fit.flags.priors {
             println!("   not identifiable: {name}: {why}");
         }
-        let unexplained = d.unexplained(s);
-        println!("   {unexplained}");
+        println!("   the model {}", d.unexplained(s));
         println!("   where it fails:");
         for f in &s.regimes.findings {
             println!("   - {f}");
@@ -491,17 +490,18 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                 println!("   {}: {}", settled.join(", "), diagnose::SETTLED_AS_STAGE);
             }
             if !s.candidates.iter().any(|c| c.significant) {
+                let beyond = d.beyond_the_eight(s);
                 match s.near_miss() {
                     Some((c, why)) => println!(
                         "   no candidate effect is significant; the leading one, {}, is {why}",
                         c.kind
                     ),
-                    None if !unexplained.beyond_measurement() => println!(
+                    None if beyond => println!("   no candidate effect is significant"),
+                    None => println!(
                         "   no candidate effect is significant: the model explains what this record shows"
                     ),
-                    None => println!("   no candidate effect is significant, and {}", diagnose::BEYOND_THE_EIGHT),
                 }
-                if unexplained.beyond_measurement() && s.near_miss().is_some() {
+                if beyond {
                     println!("   {}", diagnose::BEYOND_THE_EIGHT);
                 }
             }

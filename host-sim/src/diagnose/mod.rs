@@ -593,11 +593,12 @@ impl Serialize for Unexplained {
     }
 }
 
+/// Said after its subject: "the model leaves ...".
 impl core::fmt::Display for Unexplained {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         write!(
             f,
-            "the model leaves {:.3} N rms of the force, {:.1}x what the measurement accounts for \
+            "leaves {:.3} N rms of the force, {:.1}x what the measurement accounts for \
              ({:.3} N: force noise {:.3} N and motion reading {:.3} N in the scored band)",
             self.residual_rms_n,
             self.ratio(),
@@ -780,6 +781,13 @@ impl Diagnosis {
     /// The final model.
     pub fn model(&self) -> &AxisModel {
         &self.stages[self.stages.len() - 1].fit.model
+    }
+
+    /// Whether `stage` ends in [`BEYOND_THE_EIGHT`]: no candidate is significant, yet its model
+    /// leaves more than the measurement accounts for.
+    pub fn beyond_the_eight(&self, stage: &Stage) -> bool {
+        !stage.candidates.iter().any(|c| c.significant)
+            && self.unexplained(stage).beyond_measurement()
     }
 
     /// What `stage`'s model leaves against what the measurement accounts for.

@@ -570,15 +570,10 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         );
     }
     // what the final model leaves, against what the measurement accounts for
-    let unexplained = d.unexplained(last);
     out += &format!(
-        "<p>{}.{}</p>",
-        escape(
-            &unexplained
-                .to_string()
-                .replacen("the model", "The final model", 1)
-        ),
-        if unexplained.beyond_measurement() && !last.candidates.iter().any(|c| c.significant) {
+        "<p>The final model {}.{}</p>",
+        escape(&d.unexplained(last).to_string()),
+        if d.beyond_the_eight(last) {
             format!(
                 " <b>No candidate is significant, and {}.</b>",
                 escape(BEYOND_THE_EIGHT)
