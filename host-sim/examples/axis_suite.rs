@@ -113,6 +113,9 @@ struct Row {
     unexplained: Option<diagnose::Unexplained>,
     /// the same with the hidden effect added
     unexplained_added: Option<diagnose::Unexplained>,
+    /// the final model (the effect-free baseline, or the hidden effect added) with a
+    /// Maxwell-slip contact in its bristle's place (`diagnose::contact::check`)
+    contact: Option<diagnose::contact::ContactCheck>,
     /// how far the first baseline's force moves with the position filter's bandwidth
     /// (`Diagnosis::motion_spread_pct`) [%]
     motion_spread_pct: f64,
@@ -132,6 +135,66 @@ struct Row {
     /// the baseline's candidates searched again to settle a close call
     /// (`diagnose::CLOSE_CALL`, `Candidate::settled_as_stage`)
     settled: Vec<String>,
+}
+
+/// The Maxwell-slip contact in the final model's place (`diagnose::contact`): on how many
+/// records it describes what the model leaves, and the errors against the truth's floor,
+/// model and contact (medians, and how many within 1.2x of it).
+fn contact_lines(none: &[&Row], with: &[&Row]) {
+    let say = |what: &str, rows: &[&Row], model_pct: fn(&Row) -> f64| {
+        let checked: Vec<(&Row, &diagnose::contact::ContactCheck)> = rows
+            .iter()
+            .filter_map(|r| r.contact.as_ref().map(|c| (*r, c)))
+            .collect();
+        let called: Vec<&(&Row, &diagnose::contact::ContactCheck)> =
+            checked.iter().filter(|(_, c)| c.describes).collect();
+        let over: Vec<f64> = checked
+            .iter()
+            .map(|(r, _)| model_pct(r) / r.floor_pct)
+            .collect();
+        let after: Vec<f64> = checked
+            .iter()
+            .map(|(r, c)| if c.describes { c.rel_err_pct } else { model_pct(r) } / r.floor_pct)
+            .collect();
+        let twice = checked
+            .iter()
+            .filter(|(r, _)| model_pct(r) > 2.0 * r.floor_pct);
+        let twice_called = twice.clone().filter(|(_, c)| c.describes).count();
+        println!(
+            "Maxwell-slip contact in the model's place, {what}: describes what it leaves on {} of {} \
+             ({} of the {} over 2x the floor); error over the floor, median {:.2}x -> {:.2}x; \
+             within 1.2x the floor {} -> {}",
+            called.len(),
+            checked.len(),
+            twice_called,
+            twice.count(),
+            median(&over),
+            median(&after),
+            checked
+                .iter()
+                .filter(|(r, _)| within_floor(model_pct(r), r.floor_pct))
+                .count(),
+            checked
+                .iter()
+                .filter(|(r, c)| within_floor(
+                    if c.describes { c.rel_err_pct } else { model_pct(r) },
+                    r.floor_pct
+                ))
+                .count(),
+        );
+    };
+    say("effect-free baseline", none, |r| r.baseline_pct);
+    say("the hidden effect added", with, |r| r.added_pct);
+}
+
+/// The median of `xs` (NaN for none; NaNs sort last).
+fn median(xs: &[f64]) -> f64 {
+    let mut v: Vec<f64> = xs.to_vec();
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
 }
 
 fn main() {
@@ -339,6 +402,7 @@ fn main() {
         close.iter().filter(|r| beyond(r.unexplained_added)).count(),
         close.len()
     );
+    contact_lines(&none, &with);
     // named in `--seeds` form, so that a change to the restart is checked on exactly these
     // (session 40 listed them from memory and missed two)
     let restarted: Vec<String> = rows
@@ -554,6 +618,7 @@ fn run(
         force_noise_in_band_n: f64::NAN,
         unexplained: None,
         unexplained_added: None,
+        contact: None,
         motion_spread_pct: f64::NAN,
         scored_fraction: f64::NAN,
         departures: 0,
@@ -628,6 +693,7 @@ fn run(
     row.force_noise_in_band_n = p.force_noise_in_band_n;
     row.unexplained = Some(d.unexplained(&d.stages[0]));
     row.unexplained_added = Some(d.unexplained(&d.stages[d.stages.len() - 1]));
+    row.contact = d.contact.clone();
     row.dwell_caution = cands
         .iter()
         .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)

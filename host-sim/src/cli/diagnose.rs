@@ -109,6 +109,10 @@ pub struct JsonOut<'a> {
     /// The final model's effect parameters that ended at an edge of their search range
     /// (`diagnose::effect_search_edges`): the fit may want a value beyond it.
     pub search_edges: Vec<diagnose::SearchEdge>,
+    /// The final model with a Maxwell-slip contact in its bristle's place
+    /// (`diagnose::contact::ContactCheck`): whether a contact with presliding memory and
+    /// frictional lag describes what the model leaves.
+    pub contact: Option<&'a diagnose::contact::ContactCheck>,
     /// Where the diagnosis spent its time \[s\] (`diagnose::PhaseTimes`).
     pub times: diagnose::PhaseTimes,
 }
@@ -211,6 +215,7 @@ pub fn run(a: &Args) -> Result<()> {
             position_cutoff_hz: d.prepared.position_cutoff_hz,
             notes: &d.prepared.notes,
             search_edges: diagnose::effect_search_edges(&last.fit.model),
+            contact: d.contact.as_ref(),
             times: d.times,
         };
         super::write_json(path, &out)?;
@@ -504,6 +509,9 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                 if beyond {
                     println!("   {}", diagnose::BEYOND_THE_EIGHT);
                 }
+            }
+            if let Some(c) = &d.contact {
+                println!("   a Maxwell-slip contact in the bristle's place {c}");
             }
         }
     }

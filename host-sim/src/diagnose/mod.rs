@@ -18,6 +18,7 @@
 
 pub mod across;
 pub mod breakaway;
+pub mod contact;
 pub mod fit;
 pub mod inverse;
 pub mod regimes;
@@ -663,6 +664,8 @@ pub struct PhaseTimes {
     pub close_calls_s: f64,
     /// Stage fits of the effects added (`stage_fit`).
     pub stage_fits_s: f64,
+    /// The Maxwell-slip contact in the final model's place ([`contact::check`]).
+    pub contact_s: f64,
     /// The whole diagnosis.
     pub total_s: f64,
 }
@@ -670,7 +673,7 @@ pub struct PhaseTimes {
 impl PhaseTimes {
     /// Every phase with its name \[s\], in the order they run (the total and
     /// [`Self::other_s`] apart).
-    pub fn phases(&self) -> [(&'static str, f64); 7] {
+    pub fn phases(&self) -> [(&'static str, f64); 8] {
         [
             ("first baseline", self.first_baseline_s),
             ("baseline", self.baseline_s),
@@ -679,6 +682,7 @@ impl PhaseTimes {
             ("restarts", self.restarts_s),
             ("close calls", self.close_calls_s),
             ("stage fits", self.stage_fits_s),
+            ("contact", self.contact_s),
         ]
     }
 
@@ -773,6 +777,10 @@ pub struct Diagnosis {
     /// The filters the record was prepared with ([`prepare`]: the position cutoff may be the
     /// one its encoder count calls for); a validation record is prepared alike.
     pub protocol: Protocol,
+    /// The final model with its bristle replaced by a Maxwell-slip contact
+    /// ([`contact::check`]): whether a contact with presliding memory and frictional lag
+    /// describes what the model leaves (`None` where the model has no friction to replace).
+    pub contact: Option<contact::ContactCheck>,
     /// Where the diagnosis spent its time.
     pub times: PhaseTimes,
 }
@@ -2366,8 +2374,13 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
             &mut times,
         ));
     }
+    let last = &stages[stages.len() - 1].fit;
+    let contact = timed(&mut times.contact_s, || {
+        contact::check(&last.model, &last.prediction, &p, n_eff)
+    });
     times.total_s = start.elapsed().as_secs_f64();
     Ok(Diagnosis {
+        contact,
         noise_floor_pct: opts.truth.map(|t| p.rel_err_pct(&t.predict(&p))),
         motion_spread_pct,
         motion_weighted,

@@ -582,6 +582,12 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
             String::new()
         }
     );
+    if let Some(c) = &d.contact {
+        out += &format!(
+            "<p>A Maxwell-slip contact in the final model's bristle's place {}.</p>",
+            escape(&c.to_string())
+        );
+    }
     out += "<p>Error = 100 ||F - F_hat|| / ||F|| on the force filtered at 20 Hz, over the samples where the axis moves \
             (while stuck, friction balances whatever force is applied and cannot be predicted from the motion).</p>";
     out += &format!(
