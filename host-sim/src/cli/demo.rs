@@ -248,6 +248,17 @@ fn diagnosis_chapter(out: &Path) -> Result<()> {
     );
     let next = after.candidates.iter().filter(|c| c.significant).count();
     println!("     significant effects left: {next}");
+    if let Some(c) = &d.contact {
+        println!(
+            "     a contact that is not LuGre (Maxwell-slip: presliding memory, frictional lag) in the bristle's place errs {:.2} %: {}",
+            c.rel_err_pct,
+            if c.describes {
+                "it describes what LuGre's contact leaves"
+            } else {
+                "no better; LuGre's contact stays"
+            }
+        );
+    }
     let report = out.join("diagnosis.html");
     std::fs::write(&report, diagnose::report::html(&d, &name, None))
         .map_err(|e| Error::io(&report, e))?;

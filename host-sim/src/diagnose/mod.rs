@@ -610,6 +610,17 @@ impl core::fmt::Display for Unexplained {
     }
 }
 
+/// What a model whose filtered prediction is `prediction` leaves on `p` against what the
+/// measurement accounts for, the motion reading's spread being `motion_spread_pct`.
+fn unexplained(p: &Prepared, motion_spread_pct: f64, prediction: &[f64]) -> Unexplained {
+    let scored = p.scored_weight().max(f64::MIN_POSITIVE);
+    Unexplained {
+        residual_rms_n: (p.weighted_rss_filtered(prediction) / scored).sqrt(),
+        noise_rms_n: p.force_noise_in_band_n,
+        motion_rms_n: motion_spread_pct / 100.0 * p.force_norm / scored.sqrt(),
+    }
+}
+
 /// What a stage without a significant candidate says of a model that leaves more than the
 /// measurement accounts for ([`Unexplained::beyond_measurement`]).
 pub const BEYOND_THE_EIGHT: &str = "none of the eight effects describes what it leaves: the \
@@ -800,13 +811,11 @@ impl Diagnosis {
 
     /// What `stage`'s model leaves against what the measurement accounts for.
     pub fn unexplained(&self, stage: &Stage) -> Unexplained {
-        let p = &self.prepared;
-        let scored = p.scored_weight().max(f64::MIN_POSITIVE);
-        Unexplained {
-            residual_rms_n: (p.weighted_rss_filtered(&stage.fit.prediction) / scored).sqrt(),
-            noise_rms_n: p.force_noise_in_band_n,
-            motion_rms_n: self.motion_spread_pct / 100.0 * p.force_norm / scored.sqrt(),
-        }
+        unexplained(
+            &self.prepared,
+            self.motion_spread_pct,
+            &stage.fit.prediction,
+        )
     }
 
     /// What the motion reading does to the scores, in words: how far the first baseline's
@@ -2376,7 +2385,8 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     }
     let last = &stages[stages.len() - 1].fit;
     let contact = timed(&mut times.contact_s, || {
-        contact::check(&last.model, &last.prediction, &p, n_eff)
+        let beyond = unexplained(&p, motion_spread_pct, &last.prediction).beyond_measurement();
+        contact::check(&last.model, &last.prediction, &p, n_eff, beyond)
     });
     times.total_s = start.elapsed().as_secs_f64();
     Ok(Diagnosis {
