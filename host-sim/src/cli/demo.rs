@@ -248,8 +248,8 @@ fn diagnosis_chapter(out: &Path) -> Result<()> {
     );
     let next = after.candidates.iter().filter(|c| c.significant).count();
     println!("     significant effects left: {next}");
-    if let Some(c) = &d.contact {
-        println!(
+    match &d.contact {
+        Some(c) => println!(
             "     a contact that is not LuGre (Maxwell-slip: presliding memory, frictional lag) in the bristle's place errs {:.2} %: {}",
             c.rel_err_pct,
             if c.describes {
@@ -257,7 +257,8 @@ fn diagnosis_chapter(out: &Path) -> Result<()> {
             } else {
                 "no better; LuGre's contact stays"
             }
-        );
+        ),
+        None => println!("     {}", diagnose::contact::NOT_TRIED),
     }
     let report = out.join("diagnosis.html");
     std::fs::write(&report, diagnose::report::html(&d, &name, None))

@@ -111,7 +111,8 @@ pub struct JsonOut<'a> {
     pub search_edges: Vec<diagnose::SearchEdge>,
     /// The final model with a Maxwell-slip contact in its bristle's place
     /// (`diagnose::contact::ContactCheck`): whether a contact with presliding memory and
-    /// frictional lag describes what the model leaves.
+    /// frictional lag describes what the model leaves (null where the model leaves no more than
+    /// the measurement accounts for: not tried).
     pub contact: Option<&'a diagnose::contact::ContactCheck>,
     /// Where the diagnosis spent its time \[s\] (`diagnose::PhaseTimes`).
     pub times: diagnose::PhaseTimes,
@@ -510,8 +511,9 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                     println!("   {}", diagnose::BEYOND_THE_EIGHT);
                 }
             }
-            if let Some(c) = &d.contact {
-                println!("   a Maxwell-slip contact in the bristle's place {c}");
+            match &d.contact {
+                Some(c) => println!("   a Maxwell-slip contact in the bristle's place {c}"),
+                None => println!("   {}", diagnose::contact::NOT_TRIED),
             }
         }
     }

@@ -790,7 +790,9 @@ pub struct Diagnosis {
     pub protocol: Protocol,
     /// The final model with its bristle replaced by a Maxwell-slip contact
     /// ([`contact::check`]): whether a contact with presliding memory and frictional lag
-    /// describes what the model leaves (`None` where the model has no friction to replace).
+    /// describes what the model leaves. Tried only where the final model leaves more than the
+    /// measurement accounts for ([`Unexplained::beyond_measurement`]; `None` elsewhere, and
+    /// where the model has no friction to replace).
     pub contact: Option<contact::ContactCheck>,
     /// Where the diagnosis spent its time.
     pub times: PhaseTimes,
@@ -2384,9 +2386,12 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         ));
     }
     let last = &stages[stages.len() - 1].fit;
+    // a contact is tried only where there is something beyond the measurement to describe
     let contact = timed(&mut times.contact_s, || {
-        let beyond = unexplained(&p, motion_spread_pct, &last.prediction).beyond_measurement();
-        contact::check(&last.model, &last.prediction, &p, n_eff, beyond)
+        unexplained(&p, motion_spread_pct, &last.prediction)
+            .beyond_measurement()
+            .then(|| contact::check(&last.model, &last.prediction, &p, n_eff))
+            .flatten()
     });
     times.total_s = start.elapsed().as_secs_f64();
     Ok(Diagnosis {

@@ -582,12 +582,16 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
             String::new()
         }
     );
-    if let Some(c) = &d.contact {
-        out += &format!(
+    out += &match &d.contact {
+        Some(c) => format!(
             "<p>A Maxwell-slip contact in the final model's bristle's place {}.</p>",
             escape(&c.to_string())
-        );
-    }
+        ),
+        None => format!(
+            "<p>{}.</p>",
+            escape(&capitalised(super::contact::NOT_TRIED))
+        ),
+    };
     out += "<p>Error = 100 ||F - F_hat|| / ||F|| on the force filtered at 20 Hz, over the samples where the axis moves \
             (while stuck, friction balances whatever force is applied and cannot be predicted from the motion).</p>";
     out += &format!(
@@ -790,4 +794,12 @@ mod tests {
             "searched (nonlinear): no interval"
         );
     }
+}
+
+/// `text` with its first letter in capitals.
+fn capitalised(text: &str) -> String {
+    let mut c = text.chars();
+    c.next()
+        .map(|f| f.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
 }
