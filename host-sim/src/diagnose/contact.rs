@@ -384,33 +384,37 @@ fn solve(
     let mut raw: Vec<&[f64]> = b.elements.iter().map(|c| c.as_slice()).collect();
     raw.push(&b.viscous);
     raw.push(&b.deflection_rate);
-    let filtered = p.filter_many(&raw);
+    // the columns filtered in two halves side by side (each column's numbers are its own)
+    let (first, second) = raw.split_at(raw.len() / 2);
+    let (mut filtered, rest) = rayon::join(|| p.filter_many(first), || p.filter_many(second));
+    filtered.extend(rest);
     let mut x: Vec<&[f64]> = vec![&p.acceleration_filtered];
     x.extend(filtered.iter().map(|c| c.as_slice()));
     let offset = model.friction.offset_force();
+    let scored: Vec<usize> = (0..p.len()).filter(|&i| p.weight[i] > 0.0).collect();
+    // each row of the normal equations summed over the samples in order, the rows in parallel
+    let rows: Vec<(Vec<f64>, f64)> = (0..COLUMNS)
+        .into_par_iter()
+        .map(|r| {
+            let mut row = vec![0.0; COLUMNS];
+            let mut rhs = 0.0;
+            for &i in &scored {
+                let wr = p.weight[i] * x[r][i];
+                rhs += wr * (p.force[i] - offset);
+                for (c, col) in row.iter_mut().zip(&x).skip(r) {
+                    *c += wr * col[i];
+                }
+            }
+            (row, rhs)
+        })
+        .collect();
     let mut a = DMatrix::<f64>::zeros(COLUMNS, COLUMNS);
     let mut rhs = DVector::<f64>::zeros(COLUMNS);
-    let mut row = [0.0; COLUMNS];
-    for i in 0..p.len() {
-        let w = p.weight[i];
-        if w <= 0.0 {
-            continue;
-        }
-        for (r, c) in row.iter_mut().zip(&x) {
-            *r = c[i];
-        }
-        let y = p.force[i] - offset;
-        for r in 0..COLUMNS {
-            let wr = w * row[r];
-            rhs[r] += wr * y;
-            for c in r..COLUMNS {
-                a[(r, c)] += wr * row[c];
-            }
-        }
-    }
-    for r in 0..COLUMNS {
-        for c in 0..r {
-            a[(r, c)] = a[(c, r)];
+    for (r, (row, b)) in rows.iter().enumerate() {
+        rhs[r] = *b;
+        for c in r..COLUMNS {
+            a[(r, c)] = row[c];
+            a[(c, r)] = row[c];
         }
     }
     // columns of forces, accelerations and deflection rates differ by 1e6 and more: solved
