@@ -47,13 +47,14 @@ use std::path::Path;
 /// Each has 30 effect-free records from its first seed and, per effect `k` in [`EFFECTS`]'
 /// order, 5 from `20 000 + 100 k + offset`. Session 34's set (740.., offset 45) is not one:
 /// session 35 studied its dwell miss 20745.
-const NEVER_RUN: [(&str, u64, u64); 6] = [
+const NEVER_RUN: [(&str, u64, u64); 7] = [
     ("never-run s35", 770, 50),
     ("never-run s38", 800, 55),
     ("never-run s39", 830, 60),
     ("never-run s40", 860, 65),
     ("never-run s41", 890, 70),
     ("never-run s42", 920, 75),
+    ("never-run s43", 950, 80),
 ];
 
 /// A record to run: its hidden effect (`None`: effect-free), seed and the set it belongs to.
