@@ -584,7 +584,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     );
     out += &match &d.contact {
         Some(c) => format!(
-            "<p>A Maxwell-slip contact in the final model's bristle's place {}.</p>",
+            "<p>A Maxwell-slip contact in place of the final model's bristle {}.</p>",
             escape(&c.to_string())
         ),
         None => format!(
