@@ -216,19 +216,23 @@ struct State {
     slipping: i8,
 }
 
-/// The unit elements of break distances `d`, with the model's levels, effects and viscous
-/// term, slipping towards the curve at `lag_rate` \[1/s\], along the measured motion of `p`.
-/// Inside a rest of the reading the elements carry the measured force less `M a` and the
-/// offset (as the LuGre model's bristle does, `AxisModel::simulate`): each moves by one common
-/// displacement from its own state, so that their sum weighted by `shares` is that force, up
-/// to the static level in each direction ([`hold`]).
-fn basis(
-    model: &AxisModel,
-    d: &[f64; ELEMENTS],
-    shares: &[f64; ELEMENTS],
+/// One point of the search: the unit elements of break distances `d` with `model`'s levels,
+/// effects and viscous term, slipping towards the curve at `lag_rate` \[1/s\], along the
+/// measured motion of `p`.
+struct Trial<'a> {
+    model: AxisModel,
+    d: &'a [f64; ELEMENTS],
     lag_rate: f64,
-    p: &Prepared,
-) -> Basis {
+    p: &'a Prepared,
+}
+
+/// The unit elements of a trial along the record. Inside a rest of the reading the elements
+/// carry the measured force less `M a` and the offset (as the LuGre model's bristle does,
+/// `AxisModel::simulate`): each moves by one common displacement from its own state, so that
+/// their sum weighted by `shares` is that force, up to the static level in each direction
+/// ([`hold`]).
+fn basis(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Basis {
+    let (model, d, lag_rate, p) = (&t.model, t.d, t.lag_rate, t.p);
     let n = p.len();
     let fm = &model.friction;
     let reference = fm.effects.reference_conditions();
@@ -373,14 +377,9 @@ struct Point {
 
 /// The shares, the mass, the viscous scale and the damping that fit the filtered force best
 /// (least squares, each at least zero), with the unit elements held at the rests by `shares`.
-fn solve(
-    model: &AxisModel,
-    d: &[f64; ELEMENTS],
-    shares: &[f64; ELEMENTS],
-    lag_rate: f64,
-    p: &Prepared,
-) -> Point {
-    let b = basis(model, d, shares, lag_rate, p);
+fn solve(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
+    let (model, p) = (&t.model, t.p);
+    let b = basis(t, shares);
     let mut raw: Vec<&[f64]> = b.elements.iter().map(|c| c.as_slice()).collect();
     raw.push(&b.viscous);
     raw.push(&b.deflection_rate);
@@ -439,20 +438,14 @@ fn solve(
 
 /// [`solve`] repeated [`SHARE_PASSES`] times, each holding the rests with the shares found
 /// before (from `shares`); the best solution.
-fn settle(
-    model: &AxisModel,
-    d: &[f64; ELEMENTS],
-    shares: &[f64; ELEMENTS],
-    lag_rate: f64,
-    p: &Prepared,
-) -> Point {
-    let mut best = solve(model, d, shares, lag_rate, p);
+fn settle(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
+    let mut best = solve(t, shares);
     let mut last = best.shares;
     for _ in 1..SHARE_PASSES {
         if last.iter().all(|w| *w == 0.0) {
             break;
         }
-        let next = solve(model, d, &last, lag_rate, p);
+        let next = solve(t, &last);
         last = next.shares;
         if next.rss < best.rss {
             best = next;
@@ -513,11 +506,16 @@ pub fn check(
     // one solution with the rests held by `shares`, or settled from them
     let at = |u: [f64; COORDINATES], shares: &[f64; ELEMENTS], settled: bool| {
         let x = units(u);
-        let m = curved(model, x[1], x[2]);
+        let t = Trial {
+            model: curved(model, x[1], x[2]),
+            d: &d,
+            lag_rate: x[0],
+            p,
+        };
         if settled {
-            settle(&m, &d, shares, x[0], p)
+            settle(&t, shares)
         } else {
-            solve(&m, &d, shares, x[0], p)
+            solve(&t, shares)
         }
     };
     // a grid over the lag rate and the curve, every element with an equal share at the rests:
@@ -768,7 +766,13 @@ mod tests {
         };
         let d = ladder(1e-5);
         let shares = [1.0 / ELEMENTS as f64; ELEMENTS];
-        let b = basis(&model, &d, &shares, 1e5, &p);
+        let trial = Trial {
+            model,
+            d: &d,
+            lag_rate: 1e5,
+            p: &p,
+        };
+        let b = basis(&trial, &shares);
         let at = |t_s: f64| (t_s / p.dt).round() as usize;
         // the displacement the elements are driven by (the step's mean velocity, summed), and
         // the reversal, where it turns
