@@ -11,6 +11,9 @@ pub const MEASURED: RGBColor = RGBColor(40, 40, 40);
 pub const FIRST_MODEL: RGBColor = RGBColor(214, 96, 77);
 /// The result: the final model, the full controller.
 pub const FINAL_MODEL: RGBColor = RGBColor(33, 102, 172);
+/// An alternative the result is checked against: the Maxwell-slip contact in the final model's
+/// bristle's place.
+pub const ALTERNATIVE: RGBColor = RGBColor(230, 159, 0);
 /// Positive direction of motion.
 pub const PLUS: RGBColor = RGBColor(27, 120, 55);
 /// Negative direction of motion.

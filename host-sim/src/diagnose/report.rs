@@ -5,11 +5,15 @@
 //! 3. the friction bias per regime (first and final model);
 //! 4. the error after each added effect, against the noise floor.
 
+use super::contact::ContactCheck;
 use super::{Diagnosis, Stage, BEYOND_THE_EIGHT};
 use crate::chart::{self, Bars, Frame, Line, Panel, FINAL_MODEL, FIRST_MODEL};
 use crate::error::Result;
 
 const H: u32 = 300;
+
+/// The error chart's bar for the final model with the contact in its bristle's place.
+const CONTACT_BAR: &str = "Maxwell-slip contact in the bristle's place";
 
 fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -17,6 +21,8 @@ fn escape(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
+/// The measured force and each model's along the record; with the Maxwell-slip contact's where
+/// the diagnosis tried it.
 fn force_over_time(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String> {
     let p = &d.prepared;
     let idx: Vec<usize> = chart::thin(p.len(), 4000).collect();
@@ -25,6 +31,14 @@ fn force_over_time(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String>
         color,
         points: idx.iter().map(|&i| (p.t[i], data[i])).collect(),
     };
+    let mut lines = vec![
+        line("measured", chart::MEASURED, &p.force),
+        line("first model", FIRST_MODEL, first),
+        line("final model", FINAL_MODEL, last),
+    ];
+    if let Some(c) = contact_prediction(d) {
+        lines.push(line("Maxwell-slip contact", chart::ALTERNATIVE, c));
+    }
     chart::lines(
         H,
         &Frame {
@@ -34,12 +48,91 @@ fn force_over_time(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String>
             x: (p.t[0], p.t[p.len() - 1]),
             y: chart::range(p.force.iter().chain(last).copied()),
         },
-        &[
-            line("measured", chart::MEASURED, &p.force),
-            line("first model", FIRST_MODEL, first),
-            line("final model", FINAL_MODEL, last),
-        ],
+        &lines,
     )
+}
+
+/// The Maxwell-slip contact's predicted force where the diagnosis tried it (one value per
+/// sample of the prepared record).
+fn contact_prediction(d: &Diagnosis) -> Option<&[f64]> {
+    d.contact
+        .as_ref()
+        .map(|c| c.prediction.as_slice())
+        .filter(|c| c.len() == d.prepared.len())
+}
+
+/// The Maxwell-slip contact tried in the final model's bristle's place: a table of its
+/// elements, then one of every parameter fitted with them.
+fn contact_tables(c: &ContactCheck) -> String {
+    let elements: Vec<Vec<String>> = c
+        .elements
+        .iter()
+        .enumerate()
+        .map(|(j, e)| {
+            vec![
+                format!("{}", j + 1),
+                format!("{}{NBSP}um", num(e.break_distance_m * 1e6)),
+                format!("{}{NBSP}N", num(e.level_n)),
+                format!("{}{NBSP}N/m", num(e.level_n / e.break_distance_m)),
+            ]
+        })
+        .collect();
+    // (name, value, the searched parameter's name in `ContactCheck::at_search_edge`)
+    let parameters = [
+        (
+            "stiffness, every element sticking",
+            format!("{}{NBSP}N/m", num(c.stiffness_n_per_m)),
+            None,
+        ),
+        (
+            "slip lag rate",
+            format!("{}{NBSP}1/s", num(c.lag_rate_per_s)),
+            Some("lag_rate_per_s"),
+        ),
+        (
+            "Coulomb level, the elements together",
+            format!("{}{NBSP}N", num(c.coulomb_n)),
+            None,
+        ),
+        (
+            "static level, the elements together",
+            format!("{}{NBSP}N", num(c.static_n)),
+            Some("static_over_coulomb"),
+        ),
+        (
+            "Stribeck velocity",
+            format!("{}{NBSP}m/s", num(c.stribeck_velocity_m_per_s)),
+            Some("stribeck_velocity_m_per_s"),
+        ),
+        ("moving mass", format!("{}{NBSP}kg", num(c.mass_kg)), None),
+        ("viscous force over the model's", num(c.viscous_scale), None),
+        (
+            "damping of the sticking elements",
+            format!("{}{NBSP}N{NBSP}s/m", num(c.damping_n_s_per_m)),
+            None,
+        ),
+    ];
+    let parameters: Vec<Vec<String>> = parameters
+        .into_iter()
+        .map(|(name, value, searched)| {
+            let on_edge = searched.is_some_and(|s| c.at_search_edge.iter().any(|(n, _)| *n == s));
+            let status = match (searched, on_edge) {
+                (Some(_), true) => "searched: at the edge of its range",
+                (Some(_), false) => "searched",
+                (None, _) => "solved (linear)",
+            };
+            vec![name.to_string(), value, status.to_string()]
+        })
+        .collect();
+    table(
+        &elements,
+        &[
+            "element",
+            "break distance",
+            "level (its share of the curve)",
+            "stiffness",
+        ],
+    ) + &table(&parameters, &["parameter", "value", "status"])
 }
 
 fn residual_vs_velocity(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String> {
@@ -520,8 +613,13 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     let last = &d.stages[d.stages.len() - 1];
     let pred_first = &first.fit.prediction;
     let pred_last = &last.fit.prediction;
-    let history_labels: Vec<String> = d.stages.iter().map(|s| s.label.clone()).collect();
-    let history: Vec<f64> = d.stages.iter().map(|s| s.fit.rel_err_pct).collect();
+    let mut history_labels: Vec<String> = d.stages.iter().map(|s| s.label.clone()).collect();
+    let mut history: Vec<f64> = d.stages.iter().map(|s| s.fit.rel_err_pct).collect();
+    if let Some(c) = &d.contact {
+        // the last bar: the final model with a Maxwell-slip contact in its bristle's place
+        history_labels.push(CONTACT_BAR.into());
+        history.push(c.rel_err_pct);
+    }
     let mut out = String::from(
         "<!doctype html><html><head><meta charset=\"utf-8\"><title>lugre-servo diagnosis</title><style>\
          body{font-family:sans-serif;max-width:960px;margin:2em auto;color:#222}\
@@ -707,6 +805,20 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         &model_rows(&last.fit),
         &["section", "parameter", "value", "95 % interval", "status"],
     );
+    if let Some(c) = &d.contact {
+        out += &format!(
+            "<h2>The Maxwell-slip contact tried in the bristle's place</h2><p>{}. It errs {:.2} % \
+             against the final model's {:.2} % (the last bar above).</p>",
+            if c.describes {
+                "It describes what the final model leaves"
+            } else {
+                "It does not describe what the final model leaves"
+            },
+            c.rel_err_pct,
+            c.model_rel_err_pct
+        );
+        out += &contact_tables(c);
+    }
     let edges = super::effect_search_edges(&last.fit.model);
     if !edges.is_empty() {
         let listed: Vec<String> = edges
