@@ -48,7 +48,7 @@ use std::path::Path;
 /// order, 5 from `20 000 + 100 k + offset`. Session 34's set (740.., offset 45) is not one:
 /// session 35 studied its dwell miss 20745. Session 44's effect-free seeds skip 1000..1009,
 /// the axes of the calibration's first effect.
-const NEVER_RUN: [(&str, &[(u64, u64)], u64); 8] = [
+const NEVER_RUN: [NeverRun; 8] = [
     ("never-run s35", &[(770, 30)], 50),
     ("never-run s38", &[(800, 30)], 55),
     ("never-run s39", &[(830, 30)], 60),
@@ -58,6 +58,10 @@ const NEVER_RUN: [(&str, &[(u64, u64)], u64); 8] = [
     ("never-run s43", &[(950, 30)], 80),
     ("never-run s44", &[(980, 20), (2100, 10)], 85),
 ];
+
+/// A never-run set: its name, its effect-free seeds as `(first, count)` runs, and its effect
+/// seed offset.
+type NeverRun = (&'static str, &'static [(u64, u64)], u64);
 
 /// A record to run: its hidden effect (`None`: effect-free), seed and the set it belongs to.
 type Job = (Option<&'static str>, u64, &'static str);
