@@ -71,12 +71,16 @@ const HELD_OUT: (u64, u64) = (500, 20_000);
 /// The calibration seeds' first seeds, the ones the significance rule was set on.
 const CALIBRATION: (u64, u64) = (100, 1000);
 
-/// A seed set: `free` effect-free records from seed `first.0`, and `per_effect` records of
-/// each effect `k` (in [`EFFECTS`]' order) from seed `first.1 + 100 k`.
-fn block(set: &'static str, first: (u64, u64), free: u64, per_effect: u64) -> Vec<Job> {
-    let mut jobs: Vec<Job> = (first.0..first.0 + free).map(|s| (None, s, set)).collect();
+/// A seed set: effect-free records from `free`, `(first, count)` runs of seeds, and
+/// `per_effect` records of each effect `k` (in [`EFFECTS`]' order) from seed
+/// `effects_first + 100 k`.
+fn block(set: &'static str, free: &[(u64, u64)], effects_first: u64, per_effect: u64) -> Vec<Job> {
+    let mut jobs: Vec<Job> = free
+        .iter()
+        .flat_map(|&(first, count)| (first..first + count).map(move |s| (None, s, set)))
+        .collect();
     for (k, e) in EFFECTS.iter().enumerate() {
-        let from = first.1 + 100 * k as u64;
+        let from = effects_first + 100 * k as u64;
         jobs.extend((from..from + per_effect).map(|s| (Some(*e), s, set)));
     }
     jobs
@@ -232,9 +236,14 @@ fn main() {
     let mut jobs = if args.iter().any(|a| a == "--unseen") {
         unseen()
     } else if calibration {
-        block("calibration", CALIBRATION, free, per_effect)
+        block(
+            "calibration",
+            &[(CALIBRATION.0, free)],
+            CALIBRATION.1,
+            per_effect,
+        )
     } else {
-        block("held-out", HELD_OUT, free, per_effect)
+        block("held-out", &[(HELD_OUT.0, free)], HELD_OUT.1, per_effect)
     };
     // `--only EFFECT`: that effect's records (and the effect-free ones) only
     if let Some(only) = args
@@ -446,12 +455,9 @@ impl Row {
 
 /// The held-out seeds (10 per effect, 50 effect-free) and every never-run set ([`NEVER_RUN`]).
 fn unseen() -> Vec<Job> {
-    let mut jobs = block("held-out", HELD_OUT, 50, 10);
+    let mut jobs = block("held-out", &[(HELD_OUT.0, 50)], HELD_OUT.1, 10);
     for (set, free, offset) in NEVER_RUN {
-        for &(first, count) in free {
-            jobs.extend((first..first + count).map(|s| (None, s, set)));
-        }
-        jobs.extend(block(set, (0, HELD_OUT.1 + offset), 0, 5));
+        jobs.extend(block(set, free, HELD_OUT.1 + offset, 5));
     }
     jobs
 }

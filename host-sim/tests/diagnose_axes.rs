@@ -563,9 +563,6 @@ fn the_maxwell_contact_has_memory_and_lag() {
 /// ladder of elements, not the generator's) describes what is left on the Maxwell-slip records,
 /// at under half the baseline's error, and errs more than the baseline on the LuGre ones (where
 /// the diagnosis does not try it: the model leaves nothing beyond the measurement).
-/// The heading of the report's section on the Maxwell-slip contact.
-const CONTACT_HEADING: &str = "The Maxwell-slip contact tried in the bristle's place";
-
 #[test]
 fn a_contact_that_is_not_lugre_is_not_called_explained() {
     use generators::axis::{random_record_on, ContactKind};
@@ -608,7 +605,7 @@ fn a_contact_that_is_not_lugre_is_not_called_explained() {
                     // the report says it was not tried, and shows no contact
                     let html = diagnose::report::html(&d, "axis.csv", None);
                     assert!(html.contains("was not tried"));
-                    assert!(!html.contains(CONTACT_HEADING));
+                    assert!(!html.contains(diagnose::report::CONTACT_HEADING));
                 }
                 ContactKind::Maxwell => {
                     assert!(u.beyond_measurement(), "{u}");
@@ -620,7 +617,7 @@ fn a_contact_that_is_not_lugre_is_not_called_explained() {
                     // the report shows it: its bar beside the model's, its force along the
                     // record, a row per element and its parameters
                     let html = diagnose::report::html(&d, "axis.csv", None);
-                    assert!(html.contains(CONTACT_HEADING));
+                    assert!(html.contains(diagnose::report::CONTACT_HEADING));
                     assert!(html.contains(&format!("errs {:.2} %", tried.rel_err_pct)));
                     assert!(
                         html.contains("\nMaxwell-slip contact\n</text>"),

@@ -89,6 +89,13 @@ pub struct Element {
     pub level_n: f64,
 }
 
+impl Element {
+    /// Its stiffness while it sticks, its level over its break distance \[N/m\].
+    pub fn stiffness_n_per_m(&self) -> f64 {
+        self.level_n / self.break_distance_m
+    }
+}
+
 /// The contact fitted in the model's place, and what it did to the error.
 #[derive(Clone, Debug, Serialize)]
 pub struct ContactCheck {
@@ -458,11 +465,18 @@ fn settle(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
 /// level over the Coulomb one.
 const COORDINATES: usize = 3;
 
+/// The lag rate's name in [`ContactCheck::at_search_edge`].
+pub const LAG_RATE: &str = "lag_rate_per_s";
+/// The Stribeck velocity's name in [`ContactCheck::at_search_edge`].
+pub const STRIBECK_VELOCITY: &str = "stribeck_velocity_m_per_s";
+/// The static level over the Coulomb one: its name in [`ContactCheck::at_search_edge`].
+pub const STATIC_OVER_COULOMB: &str = "static_over_coulomb";
+
 /// The searched coordinates' ranges and names.
 const SEARCHED: [(&str, (f64, f64)); COORDINATES] = [
-    ("lag_rate_per_s", LAG_RATE_RANGE_PER_S),
-    ("stribeck_velocity_m_per_s", STRIBECK_VELOCITY_RANGE_M_PER_S),
-    ("static_over_coulomb", STATIC_OVER_COULOMB_RANGE),
+    (LAG_RATE, LAG_RATE_RANGE_PER_S),
+    (STRIBECK_VELOCITY, STRIBECK_VELOCITY_RANGE_M_PER_S),
+    (STATIC_OVER_COULOMB, STATIC_OVER_COULOMB_RANGE),
 ];
 
 /// The model with the Stribeck velocity `vs` and the static level `ratio` times its Coulomb
@@ -573,10 +587,7 @@ pub fn check(
         .collect();
     let share: f64 = best.shares.iter().sum();
     let mut check = ContactCheck {
-        stiffness_n_per_m: elements
-            .iter()
-            .map(|e| e.level_n / e.break_distance_m)
-            .sum(),
+        stiffness_n_per_m: elements.iter().map(Element::stiffness_n_per_m).sum(),
         elements,
         lag_rate_per_s: x[0],
         coulomb_n: share * fc,

@@ -5,7 +5,7 @@
 //! 3. the friction bias per regime (first and final model);
 //! 4. the error after each added effect, against the noise floor.
 
-use super::contact::ContactCheck;
+use super::contact::{self, ContactCheck};
 use super::{Diagnosis, Stage, BEYOND_THE_EIGHT};
 use crate::chart::{self, Bars, Frame, Line, Panel, FINAL_MODEL, FIRST_MODEL};
 use crate::error::Result;
@@ -14,6 +14,9 @@ const H: u32 = 300;
 
 /// The error chart's bar for the final model with the contact in its bristle's place.
 const CONTACT_BAR: &str = "Maxwell-slip contact in the bristle's place";
+
+/// The heading of the report's section on the Maxwell-slip contact, where it was tried.
+pub const CONTACT_HEADING: &str = "The Maxwell-slip contact tried in the bristle's place";
 
 fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -36,8 +39,12 @@ fn force_over_time(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String>
         line("first model", FIRST_MODEL, first),
         line("final model", FINAL_MODEL, last),
     ];
-    if let Some(c) = contact_prediction(d) {
-        lines.push(line("Maxwell-slip contact", chart::ALTERNATIVE, c));
+    if let Some(c) = &d.contact {
+        lines.push(line(
+            "Maxwell-slip contact",
+            chart::ALTERNATIVE,
+            &c.prediction,
+        ));
     }
     chart::lines(
         H,
@@ -52,15 +59,6 @@ fn force_over_time(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String>
     )
 }
 
-/// The Maxwell-slip contact's predicted force where the diagnosis tried it (one value per
-/// sample of the prepared record).
-fn contact_prediction(d: &Diagnosis) -> Option<&[f64]> {
-    d.contact
-        .as_ref()
-        .map(|c| c.prediction.as_slice())
-        .filter(|c| c.len() == d.prepared.len())
-}
-
 /// The Maxwell-slip contact tried in the final model's bristle's place: a table of its
 /// elements, then one of every parameter fitted with them.
 fn contact_tables(c: &ContactCheck) -> String {
@@ -71,55 +69,56 @@ fn contact_tables(c: &ContactCheck) -> String {
         .map(|(j, e)| {
             vec![
                 format!("{}", j + 1),
-                format!("{}{NBSP}um", num(e.break_distance_m * 1e6)),
-                format!("{}{NBSP}N", num(e.level_n)),
-                format!("{}{NBSP}N/m", num(e.level_n / e.break_distance_m)),
+                quantity(e.break_distance_m * 1e6, "um"),
+                quantity(e.level_n, "N"),
+                quantity(e.stiffness_n_per_m(), "N/m"),
             ]
         })
         .collect();
-    // (name, value, the searched parameter's name in `ContactCheck::at_search_edge`)
+    // (name, value, the searched coordinate's name in `ContactCheck::at_search_edge`)
     let parameters = [
         (
             "stiffness, every element sticking",
-            format!("{}{NBSP}N/m", num(c.stiffness_n_per_m)),
+            quantity(c.stiffness_n_per_m, "N/m"),
             None,
         ),
         (
             "slip lag rate",
-            format!("{}{NBSP}1/s", num(c.lag_rate_per_s)),
-            Some("lag_rate_per_s"),
+            quantity(c.lag_rate_per_s, "1/s"),
+            Some(contact::LAG_RATE),
         ),
         (
             "Coulomb level, the elements together",
-            format!("{}{NBSP}N", num(c.coulomb_n)),
+            quantity(c.coulomb_n, "N"),
             None,
         ),
         (
             "static level, the elements together",
-            format!("{}{NBSP}N", num(c.static_n)),
-            Some("static_over_coulomb"),
+            quantity(c.static_n, "N"),
+            Some(contact::STATIC_OVER_COULOMB),
         ),
         (
             "Stribeck velocity",
-            format!("{}{NBSP}m/s", num(c.stribeck_velocity_m_per_s)),
-            Some("stribeck_velocity_m_per_s"),
+            quantity(c.stribeck_velocity_m_per_s, "m/s"),
+            Some(contact::STRIBECK_VELOCITY),
         ),
-        ("moving mass", format!("{}{NBSP}kg", num(c.mass_kg)), None),
+        ("moving mass", quantity(c.mass_kg, "kg"), None),
         ("viscous force over the model's", num(c.viscous_scale), None),
         (
             "damping of the sticking elements",
-            format!("{}{NBSP}N{NBSP}s/m", num(c.damping_n_s_per_m)),
+            quantity(c.damping_n_s_per_m, "N\u{a0}s/m"),
             None,
         ),
     ];
     let parameters: Vec<Vec<String>> = parameters
         .into_iter()
         .map(|(name, value, searched)| {
-            let on_edge = searched.is_some_and(|s| c.at_search_edge.iter().any(|(n, _)| *n == s));
-            let status = match (searched, on_edge) {
-                (Some(_), true) => "searched: at the edge of its range",
-                (Some(_), false) => "searched",
-                (None, _) => "solved (linear)",
+            let status = match searched {
+                Some(s) if c.at_search_edge.iter().any(|(n, _)| *n == s) => {
+                    "searched: at the edge of its range"
+                }
+                Some(_) => "searched",
+                None => "solved (linear)",
             };
             vec![name.to_string(), value, status.to_string()]
         })
@@ -133,6 +132,11 @@ fn contact_tables(c: &ContactCheck) -> String {
             "stiffness",
         ],
     ) + &table(&parameters, &["parameter", "value", "status"])
+}
+
+/// A value and its unit in a table cell, joined so a narrow column does not part them.
+fn quantity(value: f64, unit: &str) -> String {
+    format!("{}{NBSP}{unit}", num(value))
 }
 
 fn residual_vs_velocity(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<String> {
@@ -807,8 +811,8 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     );
     if let Some(c) = &d.contact {
         out += &format!(
-            "<h2>The Maxwell-slip contact tried in the bristle's place</h2><p>{}. It errs {:.2} % \
-             against the final model's {:.2} % (the last bar above).</p>",
+            "<h2>{CONTACT_HEADING}</h2><p>{}. It errs {:.2} % against the final model's {:.2} % \
+             (the last bar above).</p>",
             if c.describes {
                 "It describes what the final model leaves"
             } else {
