@@ -18,6 +18,9 @@
 //! loop), the same axes and schedules otherwise (`Sensors`). `--contact maxwell` puts a
 //! generalized Maxwell-slip contact under the same axes, effects and schedules instead of
 //! LuGre (`generators::axis::Maxwell`): a friction model the diagnosis does not contain.
+//! `--shapes b` draws each hidden effect's shape from the other laws of family B
+//! (`generators::axis::Family`, written in session 45 before any run), the same axes,
+//! schedules and noise otherwise.
 //! `--write DIR
 //! [--seed N]` writes one record per effect to try.
 //!
@@ -35,7 +38,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_on, ContactKind, Sensors, EFFECTS};
+use generators::axis::{random_record_of, ContactKind, Family, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -202,6 +205,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let sensors = Sensors::from_args(&args);
     let contact = ContactKind::from_args(&args);
+    let family = Family::from_args(&args);
     let num = |i: usize, d: u64| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let per_effect = num(1, 10);
     let free = num(2, 50);
@@ -223,7 +227,7 @@ fn main() {
             .and_then(|s| s.parse().ok())
             .unwrap_or(1000);
         for e in std::iter::once(None).chain(EFFECTS.map(Some)) {
-            let (text, axis) = random_record_on(e, seed, sensors, contact);
+            let (text, axis) = random_record_of(e, seed, sensors, contact, family);
             let path = Path::new(dir).join(format!("{}.csv", e.unwrap_or("none")));
             std::fs::write(&path, text).expect("write");
             println!("{}: {axis:?}", path.display());
@@ -279,7 +283,7 @@ fn main() {
     let rows: Vec<Row> = jobs
         .par_iter()
         .map(|&(effect, seed, set)| {
-            let row = run(effect, seed, set, sensors, contact);
+            let row = run(effect, seed, set, sensors, contact, family);
             bar.inc(1);
             row
         })
@@ -597,8 +601,9 @@ fn run(
     set: &'static str,
     sensors: Sensors,
     contact: ContactKind,
+    family: Family,
 ) -> Row {
-    let (text, axis) = random_record_on(effect, seed, sensors, contact);
+    let (text, axis) = random_record_of(effect, seed, sensors, contact, family);
     let hidden = effect.unwrap_or("none").to_string();
     let mut row = Row {
         set,

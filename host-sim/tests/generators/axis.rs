@@ -103,6 +103,20 @@ pub enum PositionShape {
         centre_m: f64,
         width_m: f64,
     },
+    /// Family B: `dF = a tanh((x - x_s) / w)`, a step in the rod's finish (a chromed section
+    /// ends, a seal crosses a port) a few millimetres wide.
+    Step {
+        amplitude_n: f64,
+        centre_m: f64,
+        width_m: f64,
+    },
+    /// Family B: two narrow spots of opposite sign, `a_1 exp(-((x - x_1) / w)^2) +
+    /// a_2 exp(-((x - x_2) / w)^2)` (a scored patch beside a tight one).
+    Pair {
+        amplitudes_n: [f64; 2],
+        centres_m: [f64; 2],
+        width_m: f64,
+    },
 }
 
 /// The hidden effect and its shape.
@@ -144,6 +158,155 @@ pub enum Shape {
         hill: f64,
         renewal_m: f64,
     },
+    /// Family B ([`Family::B`]): every level, the viscous coefficient and the Stribeck
+    /// velocity per direction, each ratio drawn on its own (the static shift may oppose the
+    /// Coulomb one).
+    AsymmetryB {
+        coulomb: [f64; 2],
+        static_: [f64; 2],
+        viscous: [f64; 2],
+        stribeck: [f64; 2],
+    },
+    /// Family B: a seal energised by pressure that saturates, `Fc -> (1 + s tanh((p_sum -
+    /// p_mid) / p_w)) Fc` and `Fs` by `static_share` of that change.
+    LoadB {
+        strength: f64,
+        mid_pa: f64,
+        width_pa: f64,
+        static_share: f64,
+    },
+    /// Family B: the oil's viscosity by Vogel-Fulcher, `eta ~ exp(B / (T - T_v))`; the
+    /// viscous coefficient follows eta, the Stribeck velocity `eta^(-1/2)` (a thinner film
+    /// lifts later), and both levels `exp(-k (T - T0))`.
+    TemperatureB {
+        vogel_b_k: f64,
+        vogel_tv_c: f64,
+        levels_per_k: f64,
+    },
+    /// Family B: two lubrication scales, `g = Fc + (Fs - Fc) (w exp(-(v/vs)^2) + (1 - w)
+    /// exp(-|v| / (r vs)))`: a boundary hump and a slow mixed-film decay.
+    StribeckB { share: f64, scale: f64 },
+    /// Family B: linear plus quadratic drag `sigma2 v (1 + |v| / v_q)` (`quadratic`) or a
+    /// shear-thinning film that saturates, `sigma2 v_q tanh(v / v_q)`.
+    ViscousB {
+        quadratic: bool,
+        velocity_m_per_s: f64,
+    },
+    /// Family B: logarithmic ageing (Rabinowicz, Dieterich), `Fs += A ln(1 + t / t0)` with no
+    /// saturation, forgotten over `renewal_m` of sliding as [`Shape::Dwell`] is.
+    DwellLog {
+        per_e_fold_n: f64,
+        t0_s: f64,
+        renewal_m: f64,
+    },
+}
+
+/// Which family of effect shapes a record's hidden effect is drawn from. Family A is the
+/// one every suite ran until session 45. Family B was written in session 45 before any
+/// diagnosis ran on it, to measure how the diagnosis does on shapes nobody tuned it on: other
+/// physical laws for the same eight effects (see each `*B` shape and [`PositionShape::Step`],
+/// [`PositionShape::Pair`]). A seed's axis, schedule and noise are the same in both families
+/// (family B draws its shape from a generator of its own): only the effect's shape differs.
+/// An offset's form is fixed by physics; family B draws its size over a wider range.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Family {
+    /// The shapes of sessions 1..44.
+    #[default]
+    A,
+    /// Session 45's other laws.
+    B,
+}
+
+impl Family {
+    /// `--shapes a|b` (family A without it); another value is a panic that names it.
+    #[allow(dead_code)]
+    pub fn from_args(args: &[String]) -> Self {
+        match args
+            .iter()
+            .position(|a| a == "--shapes")
+            .map(|i| args.get(i + 1).map(String::as_str))
+        {
+            None | Some(Some("a")) => Self::A,
+            Some(Some("b")) => Self::B,
+            Some(other) => panic!("--shapes takes a or b, not {other:?}"),
+        }
+    }
+}
+
+impl Shape {
+    /// A family-B shape of `effect` for `axis` (whose base parameters it reads), from a
+    /// generator of its own seeded by `seed`.
+    pub fn random_b(effect: &str, axis: &Axis, seed: u64) -> Self {
+        let mut rng = Rng::new(seed.wrapping_mul(0x9E37_79B9).wrapping_add(45));
+        let sign = |rng: &mut Rng| if rng.uniform() < 0.5 { 1.0 } else { -1.0 };
+        match effect {
+            "asymmetry" => {
+                let rc = rng.range(0.1, 0.3) * sign(&mut rng);
+                let rs = rng.range(-0.3, 0.3);
+                let rv = rng.range(-0.3, 0.3);
+                let rvs = rng.range(-0.4, 0.4);
+                Shape::AsymmetryB {
+                    coulomb: [1.0 + rc, 1.0 - rc],
+                    static_: [1.0 + rs, 1.0 - rs],
+                    viscous: [1.0 + rv, 1.0 - rv],
+                    stribeck: [1.0 + rvs, 1.0 - rvs],
+                }
+            }
+            "offset" => Shape::Offset {
+                force_n: axis.coulomb_n * rng.log_range(0.05, 0.6) * sign(&mut rng),
+            },
+            "load_dependence" => Shape::LoadB {
+                strength: rng.range(0.3, 0.7),
+                mid_pa: rng.range(100e5, 180e5),
+                width_pa: rng.range(20e5, 60e5),
+                static_share: rng.range(0.3, 1.0),
+            },
+            "position_dependence" => {
+                let a = axis.coulomb_n * rng.range(0.15, 0.4) * sign(&mut rng);
+                let stroke = axis.stroke_m;
+                Shape::Position(if rng.uniform() < 0.5 {
+                    PositionShape::Step {
+                        amplitude_n: a,
+                        centre_m: rng.range(-0.25, 0.25) * stroke,
+                        width_m: rng.range(0.005, 0.03) * stroke,
+                    }
+                } else {
+                    let c = rng.range(-0.25, 0.2) * stroke;
+                    PositionShape::Pair {
+                        amplitudes_n: [1.5 * a, -1.5 * a * rng.range(0.5, 1.0)],
+                        centres_m: [c, c + rng.range(0.06, 0.15) * stroke],
+                        width_m: rng.range(0.02, 0.05) * stroke,
+                    }
+                })
+            }
+            "temperature_dependence" => Shape::TemperatureB {
+                vogel_b_k: rng.range(700.0, 1000.0),
+                vogel_tv_c: rng.range(-100.0, -80.0),
+                levels_per_k: rng.range(0.002, 0.008) * sign(&mut rng),
+            },
+            "stribeck_shape" => Shape::StribeckB {
+                share: rng.range(0.3, 0.7),
+                scale: rng.range(3.0, 8.0),
+            },
+            "viscous_power" => {
+                let quadratic = rng.uniform() < 0.5;
+                Shape::ViscousB {
+                    quadratic,
+                    velocity_m_per_s: if quadratic {
+                        rng.log_range(0.02, 0.1)
+                    } else {
+                        rng.log_range(0.01, 0.05)
+                    },
+                }
+            }
+            "dwell_stiction" => Shape::DwellLog {
+                per_e_fold_n: axis.static_n * rng.range(0.04, 0.1),
+                t0_s: rng.log_range(0.005, 0.05),
+                renewal_m: rng.log_range(2e-5, 2e-3),
+            },
+            other => panic!("unknown effect {other}"),
+        }
+    }
 }
 
 /// A random axis and its hidden effect: everything the record's truth is made of.
@@ -569,6 +732,20 @@ impl Axis {
                         centre_m,
                         width_m,
                     } => amplitude_n * (-((x - centre_m) / width_m).powi(2)).exp(),
+                    PositionShape::Step {
+                        amplitude_n,
+                        centre_m,
+                        width_m,
+                    } => amplitude_n * ((x - centre_m) / width_m).tanh(),
+                    PositionShape::Pair {
+                        amplitudes_n,
+                        centres_m,
+                        width_m,
+                    } => amplitudes_n
+                        .iter()
+                        .zip(centres_m)
+                        .map(|(a, c)| a * (-((x - c) / width_m).powi(2)).exp())
+                        .sum(),
                 };
                 let d = d.max(-0.9 * fc);
                 hump(fc + d, fs + d)
@@ -613,6 +790,58 @@ impl Axis {
                 let t = dwell_s.max(0.0).powf(hill);
                 hump(fc, fs + increase_n * t / (t + tau_s.powf(hill)))
             }
+            Shape::AsymmetryB {
+                coulomb,
+                static_,
+                viscous,
+                stribeck,
+            } => {
+                visc = s2 * viscous[dir] * v;
+                let vs = self.stribeck_m_per_s * stribeck[dir];
+                fc * coulomb[dir]
+                    + (fs * static_[dir] - fc * coulomb[dir]) * (-(v / vs).powi(2)).exp()
+            }
+            Shape::LoadB {
+                strength,
+                mid_pa,
+                width_pa,
+                static_share,
+            } => {
+                let change = strength * ((p_sum - mid_pa) / width_pa).tanh();
+                hump(fc * (1.0 + change), fs * (1.0 + static_share * change))
+            }
+            Shape::TemperatureB {
+                vogel_b_k,
+                vogel_tv_c,
+                levels_per_k,
+            } => {
+                let t0 = self.temperature.map_or(40.0, |t| t.0);
+                let eta = (vogel_b_k / (temp - vogel_tv_c) - vogel_b_k / (t0 - vogel_tv_c)).exp();
+                visc = s2 * eta * v;
+                let k = (-levels_per_k * (temp - t0)).exp();
+                let vs = self.stribeck_m_per_s / eta.sqrt();
+                fc * k + (fs - fc) * k * (-(v / vs).powi(2)).exp()
+            }
+            Shape::StribeckB { share, scale } => {
+                let vs = self.stribeck_m_per_s;
+                fc + (fs - fc)
+                    * (share * (-(v / vs).powi(2)).exp()
+                        + (1.0 - share) * (-v.abs() / (scale * vs)).exp())
+            }
+            Shape::ViscousB {
+                quadratic,
+                velocity_m_per_s,
+            } => {
+                visc = if quadratic {
+                    s2 * v * (1.0 + v.abs() / velocity_m_per_s)
+                } else {
+                    s2 * velocity_m_per_s * (v / velocity_m_per_s).tanh()
+                };
+                hump(fc, fs)
+            }
+            Shape::DwellLog {
+                per_e_fold_n, t0_s, ..
+            } => hump(fc, fs + per_e_fold_n * (dwell_s.max(0.0) / t0_s).ln_1p()),
         };
         (g.max(1e-6), visc, extra)
     }
@@ -738,7 +967,7 @@ impl Axis {
             *dwell = *stuck;
         } else {
             *stuck = 0.0;
-            if let Shape::Dwell { renewal_m, .. } = self.shape {
+            if let Shape::Dwell { renewal_m, .. } | Shape::DwellLog { renewal_m, .. } = self.shape {
                 *dwell *= (-slip * h / renewal_m).exp();
             }
         }
@@ -1179,6 +1408,18 @@ pub fn random_record_on(
     sensors: Sensors,
     contact: ContactKind,
 ) -> (String, Axis) {
+    random_record_of(effect, seed, sensors, contact, Family::A)
+}
+
+/// [`random_record_on`] with the hidden effect's shape drawn from `family` ([`Family::B`]:
+/// [`Shape::random_b`]; an effect-free record is the same in both).
+pub fn random_record_of(
+    effect: Option<&'static str>,
+    seed: u64,
+    sensors: Sensors,
+    contact: ContactKind,
+    family: Family,
+) -> (String, Axis) {
     let mut last = None;
     for attempt in 0..20u64 {
         let s = seed.wrapping_add(attempt.wrapping_mul(1_000_003));
@@ -1186,6 +1427,9 @@ pub fn random_record_on(
             sensors,
             ..Axis::random(effect, s)
         };
+        if let (Family::B, Some(e)) = (family, effect) {
+            axis.shape = Shape::random_b(e, &axis, s);
+        }
         if contact == ContactKind::Maxwell {
             axis.contact = Contact::Maxwell(Maxwell::random(&axis, s));
         }
