@@ -47,24 +47,32 @@ use std::path::Path;
 
 /// The never-run checks: sets registered before they first ran, run once, and no rule or
 /// constant changed on their evidence (session, effect-free seeds as `(first, count)` runs,
-/// effect seed offset). Each has 30 effect-free records and, per effect `k` in [`EFFECTS`]'
-/// order, 5 from `20 000 + 100 k + offset`. Session 34's set (740.., offset 45) is not one:
-/// session 35 studied its dwell miss 20745. Session 44's effect-free seeds skip 1000..1009,
-/// the axes of the calibration's first effect.
-const NEVER_RUN: [NeverRun; 8] = [
-    ("never-run s35", &[(770, 30)], 50),
-    ("never-run s38", &[(800, 30)], 55),
-    ("never-run s39", &[(830, 30)], 60),
-    ("never-run s40", &[(860, 30)], 65),
-    ("never-run s41", &[(890, 30)], 70),
-    ("never-run s42", &[(920, 30)], 75),
-    ("never-run s43", &[(950, 30)], 80),
-    ("never-run s44", &[(980, 20), (2100, 10)], 85),
+/// effect seed offset, records per effect). Each has 30 effect-free records (session 45's, 20)
+/// and, per effect `k` in [`EFFECTS`]' order, 5 (session 45's, 10) from `20 000 + 100 k +
+/// offset`. Session 34's set (740.., offset 45) is not one: session 35 studied its dwell miss
+/// 20745. Session 44's effect-free seeds skip 1000..1009, the axes of the calibration's first
+/// effect. With `--shapes b` the same command runs [`NEVER_RUN_B`] instead.
+const NEVER_RUN: [NeverRun; 9] = [
+    ("never-run s35", &[(770, 30)], 50, 5),
+    ("never-run s38", &[(800, 30)], 55, 5),
+    ("never-run s39", &[(830, 30)], 60, 5),
+    ("never-run s40", &[(860, 30)], 65, 5),
+    ("never-run s41", &[(890, 30)], 70, 5),
+    ("never-run s42", &[(920, 30)], 75, 5),
+    ("never-run s43", &[(950, 30)], 80, 5),
+    ("never-run s44", &[(980, 20), (2100, 10)], 85, 5),
+    ("never-run s45", &[(2110, 20)], 90, 10),
 ];
 
-/// A never-run set: its name, its effect-free seeds as `(first, count)` runs, and its effect
-/// seed offset.
-type NeverRun = (&'static str, &'static [(u64, u64)], u64);
+/// The never-run checks of family B's shapes (`--unseen --shapes b`;
+/// `generators::axis::Family`): effect records only (an effect-free record is the same in
+/// both families). Session 45's: the effect seeds of its family-A set, so each record that
+/// lands on the same draw has the same axis, schedule and noise with the other law.
+const NEVER_RUN_B: [NeverRun; 1] = [("family B s45", &[], 90, 10)];
+
+/// A never-run set: its name, effect-free seed runs `(first, count)`, effect seed offset and
+/// records per effect.
+type NeverRun = (&'static str, &'static [(u64, u64)], u64, u64);
 
 /// A record to run: its hidden effect (`None`: effect-free), seed and the set it belongs to.
 type Job = (Option<&'static str>, u64, &'static str);
@@ -238,7 +246,7 @@ fn main() {
     // 1000..); the table is reported on held-out seeds unless --calibration is given.
     let calibration = args.iter().any(|a| a == "--calibration");
     let mut jobs = if args.iter().any(|a| a == "--unseen") {
-        unseen()
+        unseen(family)
     } else if calibration {
         block(
             "calibration",
@@ -457,11 +465,18 @@ impl Row {
     }
 }
 
-/// The held-out seeds (10 per effect, 50 effect-free) and every never-run set ([`NEVER_RUN`]).
-fn unseen() -> Vec<Job> {
-    let mut jobs = block("held-out", &[(HELD_OUT.0, 50)], HELD_OUT.1, 10);
-    for (set, free, offset) in NEVER_RUN {
-        jobs.extend(block(set, free, HELD_OUT.1 + offset, 5));
+/// The held-out seeds (10 per effect, 50 effect-free) and every never-run set ([`NEVER_RUN`]);
+/// with family B's shapes, its never-run sets ([`NEVER_RUN_B`]).
+fn unseen(family: Family) -> Vec<Job> {
+    let (mut jobs, sets) = match family {
+        Family::A => (
+            block("held-out", &[(HELD_OUT.0, 50)], HELD_OUT.1, 10),
+            &NEVER_RUN[..],
+        ),
+        Family::B => (Vec::new(), &NEVER_RUN_B[..]),
+    };
+    for (set, free, offset, per_effect) in sets {
+        jobs.extend(block(set, free, HELD_OUT.1 + offset, *per_effect));
     }
     jobs
 }
