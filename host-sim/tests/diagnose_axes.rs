@@ -879,7 +879,7 @@ fn family_b_draws_other_laws_on_the_same_axes() {
                 family,
             )
         };
-        let ((text_a, axis_a), (text_b, axis_b)) = (of(Family::A), of(Family::B));
+        let ((_, axis_a), (text_b, axis_b)) = (of(Family::A), of(Family::B));
         let law = format!("{:?}", axis_b.shape);
         let expected = match *effect {
             "offset" => "Offset",
