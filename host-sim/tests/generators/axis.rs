@@ -217,15 +217,19 @@ pub enum Family {
     B,
 }
 
+/// The word after `flag` on a benchmark's command line: `None` without the flag, `Some(None)`
+/// with nothing after it.
+fn flag_value<'a>(args: &'a [String], flag: &str) -> Option<Option<&'a str>> {
+    args.iter()
+        .position(|a| a == flag)
+        .map(|i| args.get(i + 1).map(String::as_str))
+}
+
 impl Family {
     /// `--shapes a|b` (family A without it); another value is a panic that names it.
     #[allow(dead_code)]
     pub fn from_args(args: &[String]) -> Self {
-        match args
-            .iter()
-            .position(|a| a == "--shapes")
-            .map(|i| args.get(i + 1).map(String::as_str))
-        {
+        match flag_value(args, "--shapes") {
             None | Some(Some("a")) => Self::A,
             Some(Some("b")) => Self::B,
             Some(other) => panic!("--shapes takes a or b, not {other:?}"),
@@ -425,11 +429,7 @@ impl ContactKind {
     /// `--contact lugre|maxwell` (LuGre without it); another value is a panic that names it.
     #[allow(dead_code)]
     pub fn from_args(args: &[String]) -> Self {
-        match args
-            .iter()
-            .position(|a| a == "--contact")
-            .map(|i| args.get(i + 1).map(String::as_str))
-        {
+        match flag_value(args, "--contact") {
             None | Some(Some("lugre")) => Self::LuGre,
             Some(Some("maxwell")) => Self::Maxwell,
             Some(other) => panic!("--contact takes lugre or maxwell, not {other:?}"),
