@@ -22,6 +22,14 @@ fn diagnose(effect: Option<&'static str>, seed: u64, add: &[&str]) -> (Diagnosis
     (diagnose::diagnose(&rec, "axis.csv", &opts).unwrap(), axis)
 }
 
+/// A generated record's numbers, row by row (its comment and header lines left out).
+fn rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('t'))
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect()
+}
+
 /// The first significant candidate's name, if any.
 fn first_significant(c: &[diagnose::Candidate]) -> Option<&'static str> {
     c.iter().find(|c| c.significant).map(|c| c.kind.name())
@@ -657,12 +665,6 @@ fn other_sensors_measure_the_same_axis_along_the_same_schedule() {
         ),
         format!("{axis_c:?}")
     );
-    let rows = |t: &str| -> Vec<Vec<f64>> {
-        t.lines()
-            .filter(|l| !l.starts_with('#') && !l.starts_with('t'))
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-            .collect()
-    };
     let (fine, coarse_rows) = (rows(&text), rows(&text_c));
     assert_eq!(fine.len(), coarse_rows.len());
     // the reference (column 3) is the schedule's, the same; the positions (column 1) are whole
@@ -895,12 +897,7 @@ fn family_b_draws_other_laws_on_the_same_axes() {
         if *effect == "position_dependence" {
             assert!(law.contains("Step") || law.contains("Pair"), "{law}");
         }
-        let column = |t: &str, c: usize| -> Vec<f64> {
-            t.lines()
-                .filter(|l| !l.starts_with('#') && !l.starts_with('t'))
-                .map(|l| l.split(',').nth(c).unwrap().parse().unwrap())
-                .collect()
-        };
+        let column = |t: &str, c: usize| -> Vec<f64> { rows(t).iter().map(|r| r[c]).collect() };
         // the same draw: family B replaces the shape, the schedule stays (a record whose
         // visibility is redrawn moves to the next attempt's axis in either family alone)
         let axis = Axis::random(Some(effect), seed);

@@ -683,6 +683,12 @@ impl Axis {
         }
     }
 
+    /// Oil temperature at the record's start [degC] (the reference 40 degC without a sensor):
+    /// where the temperature laws' levels hold.
+    fn start_temperature(&self) -> f64 {
+        self.temperature.map_or(40.0, |t| t.0)
+    }
+
     /// Oil temperature at time t [degC] (the reference 40 degC without a sensor).
     fn temperature_at(&self, t: f64) -> f64 {
         self.temperature
@@ -696,7 +702,9 @@ impl Axis {
         let dir = usize::from(v < 0.0);
         let mut visc = s2 * v;
         let mut extra = 0.0;
-        let hump = |fc: f64, fs: f64| fc + (fs - fc) * (-(v / self.stribeck_m_per_s).powi(2)).exp();
+        // the Gaussian Stribeck curve at velocity scale vs, and at the axis's own
+        let hump_at = |fc: f64, fs: f64, vs: f64| fc + (fs - fc) * (-(v / vs).powi(2)).exp();
+        let hump = |fc: f64, fs: f64| hump_at(fc, fs, self.stribeck_m_per_s);
         let g = match self.shape {
             Shape::None => hump(fc, fs),
             Shape::Asymmetry {
@@ -754,7 +762,7 @@ impl Axis {
                 andrade_k,
                 coulomb_per_k,
             } => {
-                let t0 = self.temperature.map_or(40.0, |t| t.0);
+                let t0 = self.start_temperature();
                 s2 *= (andrade_k * (1.0 / (temp + 273.15) - 1.0 / (t0 + 273.15))).exp();
                 visc = s2 * v;
                 let k = (1.0 + coulomb_per_k * (temp - t0)).max(0.1);
@@ -797,9 +805,11 @@ impl Axis {
                 stribeck,
             } => {
                 visc = s2 * viscous[dir] * v;
-                let vs = self.stribeck_m_per_s * stribeck[dir];
-                fc * coulomb[dir]
-                    + (fs * static_[dir] - fc * coulomb[dir]) * (-(v / vs).powi(2)).exp()
+                hump_at(
+                    fc * coulomb[dir],
+                    fs * static_[dir],
+                    self.stribeck_m_per_s * stribeck[dir],
+                )
             }
             Shape::LoadB {
                 strength,
@@ -815,10 +825,11 @@ impl Axis {
                 vogel_tv_c,
                 levels_per_k,
             } => {
-                let t0 = self.temperature.map_or(40.0, |t| t.0);
+                let t0 = self.start_temperature();
                 let eta = (vogel_b_k / (temp - vogel_tv_c) - vogel_b_k / (t0 - vogel_tv_c)).exp();
                 visc = s2 * eta * v;
                 let k = (-levels_per_k * (temp - t0)).exp();
+                // (not `hump_at`: kept as first run, bit for bit, for the registered records)
                 let vs = self.stribeck_m_per_s / eta.sqrt();
                 fc * k + (fs - fc) * k * (-(v / vs).powi(2)).exp()
             }
