@@ -622,11 +622,7 @@ mod tests {
     #[test]
     fn load_dependence_shifts_coulomb_and_static_with_pressure() {
         let mut m = base();
-        m.effects.load_dependence = Some(LoadDependence {
-            coefficient: 2e-5,
-            reference_pressure_sum: 100e5,
-            exponent: 1.0,
-        });
+        m.effects.load_dependence = Some(LoadDependence::power(2e-5, 100e5, 1.0));
         let c = Conditions {
             pressure_sum: 150e5,
             ..REF
@@ -646,6 +642,41 @@ mod tests {
         let h = 1e3;
         let slope = (q.shift(100e5 + h) - q.shift(100e5 - h)) / (2.0 * h);
         assert!((slope - 2e-5).abs() < 1e-12, "{slope}");
+    }
+
+    /// The cosine series over the pressure sums adds `sum c_j cos(j pi u)` to the static
+    /// level's shift, u running 0..1 over `p_ref - L .. p_ref + L` and held at the ends
+    /// beyond: a seal energised only above some pressure is a shape the power law cannot
+    /// follow.
+    #[test]
+    fn load_dependence_follows_a_cosine_series_over_the_pressure_sums() {
+        let mut m = base();
+        let mut q = LoadDependence::power(1e-5, 100e5, 1.0);
+        q.half_span = 50e5;
+        q.terms = 2;
+        q.cosine = [30.0, -10.0, 99.0, 99.0];
+        m.effects.load_dependence = Some(q);
+        // (p, u): the span's ends, its centre, and beyond the top
+        for (p, u) in [(50e5, 0.0), (100e5, 0.5), (150e5, 1.0), (300e5, 1.0)] {
+            let pi = core::f64::consts::PI;
+            let series = 30.0 * (pi * u).cos() - 10.0 * (2.0 * pi * u).cos();
+            let line = 1e-5 * (p.min(300e5) - 100e5);
+            let want = line + series;
+            assert!(
+                (q.shift(p) - want).abs() < 1e-9,
+                "{p}: {} vs {want}",
+                q.shift(p)
+            );
+            let c = Conditions {
+                pressure_sum: p,
+                ..REF
+            };
+            let l = m.levels(0.01, &c, 0.0);
+            assert!((l.static_ - (632.0 + want)).abs() < 1e-9, "{p}");
+        }
+        // the unused terms (99 N) take no part
+        q.terms = 0;
+        assert!((q.shift(150e5) - 50.0).abs() < 1e-9);
     }
 
     #[test]
@@ -891,11 +922,7 @@ mod tests {
     #[test]
     fn levels_stay_physical_for_extreme_conditions() {
         let mut m = base();
-        m.effects.load_dependence = Some(LoadDependence {
-            coefficient: 1.0,
-            reference_pressure_sum: 0.0,
-            exponent: 1.0,
-        });
+        m.effects.load_dependence = Some(LoadDependence::power(1.0, 0.0, 1.0));
         let l = m.levels(
             0.01,
             &Conditions {

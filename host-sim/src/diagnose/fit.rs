@@ -50,6 +50,8 @@ pub enum Param {
     Offset,
     /// load_dependence k [N/Pa].
     LoadCoefficient,
+    /// load_dependence c_j \[N\], j = 1.. (the index is j - 1).
+    LoadCosine(usize),
     /// position_dependence k_x [N/m].
     PositionGradient,
     /// position_dependence c_j \[N\], j = 1.. (the index is j - 1).
@@ -61,7 +63,7 @@ pub enum Param {
 }
 
 /// The cosine terms' labels, one per term the core carries (its length is the core's
-/// `POSITION_TERMS`: a change there must name its terms here).
+/// `POSITION_TERMS`, at least its `LOAD_TERMS`: a change there must name its terms here).
 const COSINE_LABELS: [&str; fx::POSITION_TERMS] = [
     "cosine_1_n",
     "cosine_2_n",
@@ -88,7 +90,9 @@ impl Param {
             Param::Offset => "force_n",
             Param::LoadCoefficient => "coefficient_n_per_pa",
             Param::PositionGradient => "gradient_n_per_m",
-            Param::PositionCosine(j) => COSINE_LABELS.get(j).copied().unwrap_or("cosine_n"),
+            Param::PositionCosine(j) | Param::LoadCosine(j) => {
+                COSINE_LABELS.get(j).copied().unwrap_or("cosine_n")
+            }
             Param::TempCoulomb => "coulomb_per_kelvin",
             Param::DwellIncrease => "max_increase_n",
         }
@@ -377,6 +381,10 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
         Param::AsymViscous => e.asymmetry.map_or(0.0, |a| a.viscous_ratio),
         Param::Offset => e.offset.map_or(0.0, |o| o.force),
         Param::LoadCoefficient => e.load_dependence.map_or(0.0, |l| l.coefficient),
+        Param::LoadCosine(j) => e
+            .load_dependence
+            .and_then(|l| l.cosine.get(j).copied())
+            .unwrap_or(0.0),
         Param::PositionGradient => e.position_dependence.map_or(0.0, |x| x.gradient),
         Param::PositionCosine(j) => e
             .position_dependence
@@ -604,8 +612,9 @@ fn linearise<'p>(
     if e.offset.is_some() {
         params.push(Param::Offset);
     }
-    if e.load_dependence.is_some() {
+    if let Some(l) = e.load_dependence {
         params.push(Param::LoadCoefficient);
+        params.extend((0..l.terms.min(fx::LOAD_TERMS)).map(Param::LoadCosine));
     }
     if let Some(pd) = e.position_dependence {
         params.push(Param::PositionGradient);
@@ -652,17 +661,22 @@ fn linearise<'p>(
                 .temperature_dependence
                 .map_or(1.0, |t| (-t.viscous_per_kelvin * d_t).exp());
             let load_x = e.load_dependence.map_or(0.0, |l| l.basis(c.pressure_sum));
+            let load_basis = e
+                .load_dependence
+                .filter(|l| l.terms > 0)
+                .map_or([0.0; fx::LOAD_TERMS], |l| l.cosine_basis(c.pressure_sum));
             let pos_x = e.position_dependence.map_or(0.0, |x| c.position - x.center);
             let pos_basis = e
                 .position_dependence
                 .filter(|x| x.terms > 0)
                 .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
-            // the load scales both levels by the seal's normal force, `1 + k b(p) / Fs`
-            // (FrictionModel::levels; Fs > 0 is a LugreParams invariant); the position shift is
-            // added after it
-            let load_scale = e
-                .load_dependence
-                .map_or(1.0, |l| (1.0 + l.coefficient * load_x / fs).max(0.0));
+            // the load scales both levels by the seal's normal force, `1 + dF(p) / Fs`,
+            // `dF = k b(p) + sum c_j q_j(p)` (FrictionModel::levels; Fs > 0 is a LugreParams
+            // invariant); the position shift is added after it
+            let load_scale = e.load_dependence.map_or(1.0, |l| {
+                let series: f64 = l.cosine.iter().zip(&load_basis).map(|(c, q)| c * q).sum();
+                (1.0 + (l.coefficient * load_x + series) / fs).max(0.0)
+            });
             let shift = e
                 .position_dependence
                 .map_or(0.0, |x| x.shift_from(c.position, &pos_basis));
@@ -705,6 +719,7 @@ fn linearise<'p>(
                     Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                     Param::Offset => 1.0,
                     Param::LoadCoefficient => tau_c * load_x / fs * level0 * s,
+                    Param::LoadCosine(j) => tau_c * load_basis[j] / fs * level0 * s,
                     Param::PositionGradient => tau_c * pos_x * s,
                     Param::PositionCosine(j) => tau_c * pos_basis[j] * s,
                     // the shift is added after the direction's ratios (FrictionModel::levels)
@@ -993,6 +1008,9 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
     }
     if let Some(l) = effects.load_dependence.as_mut() {
         l.coefficient = get(Param::LoadCoefficient).unwrap_or(0.0);
+        for j in 0..l.terms.min(fx::LOAD_TERMS) {
+            l.cosine[j] = get(Param::LoadCosine(j)).unwrap_or(0.0);
+        }
     }
     if let Some(x) = effects.position_dependence.as_mut() {
         x.gradient = get(Param::PositionGradient).unwrap_or(0.0);
@@ -1150,17 +1168,22 @@ pub fn add_effect(
         }
         K::Offset => e.offset = Some(fx::Offset { force: 0.0 }),
         K::LoadDependence => {
-            let r = p
-                .pressure_sum
-                .as_ref()
-                .map_or(0.0, |s| crate::stats::median(s));
-            // `nonlinear`: the power of the pressure sum (a model that has the effect keeps its
-            // slope as the refit's start)
-            e.load_dependence = Some(fx::LoadDependence {
-                coefficient: e.load_dependence.map_or(0.0, |l| l.coefficient),
-                reference_pressure_sum: r,
-                exponent: if nonlinear > 0.0 { nonlinear } else { 1.0 },
-            })
+            let sums = p.pressure_sum.as_deref().unwrap_or(&[]);
+            let r = if sums.is_empty() {
+                0.0
+            } else {
+                crate::stats::median(sums)
+            };
+            let lo = sums.iter().cloned().fold(r, f64::min);
+            let hi = sums.iter().cloned().fold(r, f64::max);
+            // `nonlinear`: the number of cosine terms over the record's pressure sums, around
+            // the straight line through the median (a model that has the effect keeps its slope
+            // as the refit's start)
+            let mut ld =
+                fx::LoadDependence::power(e.load_dependence.map_or(0.0, |l| l.coefficient), r, 1.0);
+            ld.half_span = (hi - r).max(r - lo).max(1e3);
+            ld.terms = (nonlinear.round().max(0.0) as usize).min(fx::LOAD_TERMS);
+            e.load_dependence = Some(ld);
         }
         K::PositionDependence => {
             let lo = p.x.iter().cloned().fold(f64::INFINITY, f64::min);

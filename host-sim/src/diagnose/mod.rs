@@ -81,11 +81,12 @@ pub const EFFECTS: [EffectInfo; 8] = [
         kind: EffectKind::LoadDependence,
         meaning: "seal friction grows with chamber pressure (pressure-energised seals)",
         linear: &[Param::LoadCoefficient],
-        // the power of the pressure sum: a seal that saturates (< 1) or is energised
-        // progressively (> 1); the independent generator draws 0.7..1.5
-        nonlinear: Some(("exponent", &[0.6, 0.8, 1.0, 1.25, 1.6, 2.2], Some(1.0))),
+        // the number of cosine terms of its shape over the record's pressure sums, chosen by
+        // the information criterion: a straight line (0) or a smooth response the data picks
+        // (a seal that saturates, one energised above some pressure)
+        nonlinear: Some(("terms", &[0.0, 1.0, 2.0, 3.0, 4.0], None)),
         shape: None,
-        orders_first: None,
+        orders_first: Some(5),
     },
     EffectInfo {
         kind: EffectKind::PositionDependence,
@@ -175,17 +176,14 @@ fn effect_grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
 }
 
 /// The fitted linear parameters that belong to an effect: its own list, and the cosine terms of
-/// a position dependence.
+/// a position or load dependence.
 fn effect_params(info: &EffectInfo, fit: &Fit) -> Vec<Param> {
     let mut out: Vec<Param> = info.linear.to_vec();
-    if info.kind == EffectKind::PositionDependence {
-        out.extend(
-            fit.estimates
-                .iter()
-                .map(|e| e.param)
-                .filter(|q| matches!(q, Param::PositionCosine(_))),
-        );
-    }
+    out.extend(fit.estimates.iter().map(|e| e.param).filter(|q| match q {
+        Param::PositionCosine(_) => info.kind == EffectKind::PositionDependence,
+        Param::LoadCosine(_) => info.kind == EffectKind::LoadDependence,
+        _ => false,
+    }));
     out
 }
 
@@ -2171,7 +2169,7 @@ fn nonlinear_value(m: &AxisModel, effect: EffectKind) -> Option<f64> {
         EffectKind::ViscousPower => e.viscous_power.map(|v| v.exponent),
         EffectKind::DwellStiction => e.dwell_stiction.map(|d| d.time_constant),
         EffectKind::PositionDependence => e.position_dependence.map(|x| x.terms as f64),
-        EffectKind::LoadDependence => e.load_dependence.map(|l| l.exponent),
+        EffectKind::LoadDependence => e.load_dependence.map(|l| l.terms as f64),
         EffectKind::Asymmetry | EffectKind::Offset => None,
     }
 }
