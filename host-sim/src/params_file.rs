@@ -107,6 +107,9 @@ mod tables {
         /// the cosine terms c_1.. \[N\] (at most `LOAD_TERMS`, 4)
         #[serde(default, skip_serializing_if = "Vec::is_empty")]
         pub cosine_n: Vec<f64>,
+        /// the share of the scale's change the Stribeck hump takes (absent: 1, in proportion)
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub static_share: Option<f64>,
     }
     #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
     #[serde(deny_unknown_fields)]
@@ -227,6 +230,7 @@ impl ParamFile {
                     exponent: Some(l.exponent),
                     half_span_pa: (l.terms > 0).then_some(l.half_span),
                     cosine_n: l.cosine[..l.terms.min(l.cosine.len())].to_vec(),
+                    static_share: (l.static_share != 1.0).then_some(l.static_share),
                 }),
                 position_dependence: e.position_dependence.map(|x| PositionT {
                     gradient_n_per_m: x.gradient,
@@ -320,6 +324,8 @@ impl ParamFile {
             )?;
             positive(K::LoadDependence, "exponent", exponent)?;
             finite(K::LoadDependence, &l.cosine_n)?;
+            let static_share = l.static_share.unwrap_or(1.0);
+            finite(K::LoadDependence, &[static_share])?;
             let mut ld = fx::LoadDependence::power(
                 l.coefficient_n_per_pa,
                 l.reference_pressure_sum_pa,
@@ -339,6 +345,7 @@ impl ParamFile {
                 ld.terms = l.cosine_n.len();
                 ld.cosine[..ld.terms].copy_from_slice(&l.cosine_n);
             }
+            ld.static_share = static_share;
             effects.load_dependence = Some(ld);
         }
         if let Some(x) = &e.position_dependence {

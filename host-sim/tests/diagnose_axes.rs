@@ -776,7 +776,7 @@ fn a_parameter_file_refuses_a_bad_position_shape() {
     // a load dependence's series is written and read back the same (the file a diagnosis
     // writes with it)
     let mut l = lugre_servo::friction::effects::LoadDependence::power(2e-6, 150e5, 1.0);
-    (l.half_span, l.terms) = (40e5, 3);
+    (l.half_span, l.terms, l.static_share) = (40e5, 3, 0.4);
     l.cosine[..3].copy_from_slice(&[12.5, -3.0, 0.75]);
     let mut with_load = m;
     with_load.effects.load_dependence = Some(l);

@@ -9,7 +9,7 @@
 //! | --- | --- |
 //! | `asymmetry` | `Fc -> (1 ± rc) Fc`, `Fs -> (1 ± rs) Fs`, `sigma2 -> (1 ± rv) sigma2`, `+` for v >= 0 |
 //! | `offset` | `F += F0` (constant external force, e.g. gravity on an inclined axis) |
-//! | `load_dependence` | `Fc, Fs -> (1 + dF(p) / Fs) Fc, Fs`, `dF = k p_ref ((p / p_ref)^gamma - 1) / gamma + sum c_j cos(j pi u(p))`, `p = p_a + p_b` (the seal's normal force: preload + pressure-energised; `k (p - p_ref)` at `gamma = 1`; the cosine series over the pressure sums a smooth response the data picks) |
+//! | `load_dependence` | `Fc -> L Fc`, `Fs - Fc -> (1 + beta (L - 1)) (Fs - Fc)`, `L = 1 + dF(p) / Fs`, `dF = k p_ref ((p / p_ref)^gamma - 1) / gamma + sum c_j cos(j pi u(p))`, `p = p_a + p_b` (the seal's normal force: preload + pressure-energised; `k (p - p_ref)` at `gamma = 1`; the cosine series over the pressure sums a smooth response the data picks) |
 //! | `position_dependence` | `Fc, Fs += k_x (x - x_c) + sum_j c_j cos(j pi u)`, `u = (x - x_c) / 2L + 1/2` in [0, 1] (friction varying along the stroke) |
 //! | `temperature_dependence` | `sigma2 -> sigma2 exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs` |
 //! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
@@ -44,8 +44,11 @@ pub struct Offset<T> {
 pub const LOAD_TERMS: usize = 4;
 
 /// Seal friction that grows with chamber pressure: the pressure adds to the seal's normal
-/// force, so both levels scale with it, `Fc, Fs -> (1 + dF(p) / Fs) Fc, Fs`, with the static
-/// level's change a power of the pressure sum `p` plus a smooth shape:
+/// force, so the levels scale with it, `Fc -> L Fc` and the Stribeck hump `Fs - Fc -> (1 +
+/// beta (L - 1)) (Fs - Fc)` with `L = 1 + dF(p) / Fs` (`beta = 1`: both levels in proportion,
+/// `Fs -> L Fs`; a seal whose breakaway grows less or more than its sliding friction has
+/// another share), with the static level's change a power of the pressure sum `p` plus a
+/// smooth shape:
 ///
 /// ```text
 /// dF(p) = k p_ref ((p / p_ref)^gamma - 1) / gamma + sum_{j=1..n} c_j cos(j pi u),
@@ -73,6 +76,8 @@ pub struct LoadDependence<T> {
     pub cosine: [T; LOAD_TERMS],
     /// `n`: number of cosine terms in use (0..=[`LOAD_TERMS`]).
     pub terms: usize,
+    /// `beta` [-]: the share of the scale's change the Stribeck hump takes (1: in proportion).
+    pub static_share: T,
 }
 
 impl<T: Float> LoadDependence<T> {
@@ -85,6 +90,7 @@ impl<T: Float> LoadDependence<T> {
             half_span: T::one(),
             cosine: [T::zero(); LOAD_TERMS],
             terms: 0,
+            static_share: T::one(),
         }
     }
 
@@ -399,6 +405,7 @@ impl<T: Float> Effects<T> {
                 half_span: c(l.half_span),
                 cosine: l.cosine.map(c),
                 terms: l.terms,
+                static_share: c(l.static_share),
             }),
             position_dependence: self.position_dependence.map(|p| PositionDependence {
                 gradient: c(p.gradient),

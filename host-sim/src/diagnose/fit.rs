@@ -52,6 +52,8 @@ pub enum Param {
     LoadCoefficient,
     /// load_dependence c_j \[N\], j = 1.. (the index is j - 1).
     LoadCosine(usize),
+    /// load_dependence beta [-]: the hump's share of the scale's change.
+    LoadStaticShare,
     /// position_dependence k_x [N/m].
     PositionGradient,
     /// position_dependence c_j \[N\], j = 1.. (the index is j - 1).
@@ -89,6 +91,7 @@ impl Param {
             Param::AsymViscous => "viscous_ratio",
             Param::Offset => "force_n",
             Param::LoadCoefficient => "coefficient_n_per_pa",
+            Param::LoadStaticShare => "static_share",
             Param::PositionGradient => "gradient_n_per_m",
             Param::PositionCosine(j) | Param::LoadCosine(j) => {
                 COSINE_LABELS.get(j).copied().unwrap_or("cosine_n")
@@ -385,6 +388,7 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
             .load_dependence
             .and_then(|l| l.cosine.get(j).copied())
             .unwrap_or(0.0),
+        Param::LoadStaticShare => e.load_dependence.map_or(1.0, |l| l.static_share),
         Param::PositionGradient => e.position_dependence.map_or(0.0, |x| x.gradient),
         Param::PositionCosine(j) => e
             .position_dependence
@@ -396,6 +400,11 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
         Param::DwellIncrease => e.dwell_stiction.map_or(0.0, |d| d.max_increase),
     }
 }
+
+/// Bound of a load dependence's static share (`beta`, [`Param::LoadStaticShare`]): the hump
+/// of a seal whose Stribeck hump is a tenth of its Coulomb level may move several times the
+/// Coulomb level's share under pressure, either way.
+pub const LOAD_STATIC_SHARE_BOUND: f64 = 10.0;
 
 /// The physical range of each linear parameter on a record. A fit never leaves it, and a
 /// parameter that ends on its edge is reported ([`Fit::at_bound`]):
@@ -448,6 +457,7 @@ impl Bounds {
             Param::BristleDamping => (0.0, self.damping),
             Param::AsymCoulomb | Param::AsymStatic | Param::AsymViscous => (-0.95, 0.95),
             Param::Offset => (-self.force, self.force),
+            Param::LoadStaticShare => (-LOAD_STATIC_SHARE_BOUND, LOAD_STATIC_SHARE_BOUND),
             _ => (f64::NEG_INFINITY, f64::INFINITY),
         }
     }
@@ -615,6 +625,7 @@ fn linearise<'p>(
     if let Some(l) = e.load_dependence {
         params.push(Param::LoadCoefficient);
         params.extend((0..l.terms.min(fx::LOAD_TERMS)).map(Param::LoadCosine));
+        params.push(Param::LoadStaticShare);
     }
     if let Some(pd) = e.position_dependence {
         params.push(Param::PositionGradient);
@@ -697,29 +708,40 @@ fn linearise<'p>(
             // g = Fc (1 + d rc) (1 - e) + Fs (1 + d rs) e, Fs = Fc + hump: the Coulomb level
             // everywhere, the hump near rest, each with its direction's ratio
             let (up_c, up_s) = (1.0 + d * rc, 1.0 + d * rs);
-            let level0 = fc * up_c * (1.0 - ex) + fs * up_s * ex;
-            let level = load_scale * level0;
+            // under pressure the Coulomb level scales by L and the hump by B = 1 + beta (L - 1)
+            // (FrictionModel::levels): g = L Fc_a + e H B, H = Fs_a - Fc_a the direction's hump
+            let (fc_a, hump_a) = (fc * up_c, fs * up_s - fc * up_c);
+            let beta = e.load_dependence.map_or(1.0, |l| l.static_share);
+            let hump_scale = 1.0 + beta * (load_scale - 1.0);
+            let level = load_scale * fc_a + ex * hump_a * hump_scale;
             // d(load_scale)/d(Fs) = -k b / Fs^2 (k held; zero without the effect), and
             // Fs = Fc + hump moves with both
             let scale_per_fs = -(load_scale - 1.0) / fs;
+            // what a change of dF moves, per newton over Fs
+            let per_shift = fc_a + ex * hump_a * beta;
             for (o, &prm) in out.iter_mut().zip(&built) {
                 o[at] = match prm {
                     // filtered with the record (`cached`): never built here
                     Param::Mass => p.a[i],
                     Param::Coulomb => {
                         tau_c
-                            * (load_scale * (up_c * (1.0 - ex) + up_s * ex) + scale_per_fs * level0)
+                            * (load_scale * up_c
+                                + scale_per_fs * per_shift
+                                + ex * (up_s - up_c) * hump_scale)
                             * s
                     }
-                    Param::Static => tau_c * (load_scale * up_s * ex + scale_per_fs * level0) * s,
+                    Param::Static => {
+                        tau_c * (scale_per_fs * per_shift + ex * up_s * hump_scale) * s
+                    }
                     Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
                     Param::BristleDamping => sim.deflection_rate[i],
-                    Param::AsymCoulomb => tau_c * load_scale * d * fc * (1.0 - ex) * s,
-                    Param::AsymStatic => tau_c * load_scale * d * fs * ex * s,
+                    Param::AsymCoulomb => tau_c * d * fc * (load_scale - ex * hump_scale) * s,
+                    Param::AsymStatic => tau_c * hump_scale * d * fs * ex * s,
                     Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                     Param::Offset => 1.0,
-                    Param::LoadCoefficient => tau_c * load_x / fs * level0 * s,
-                    Param::LoadCosine(j) => tau_c * load_basis[j] / fs * level0 * s,
+                    Param::LoadCoefficient => tau_c * load_x / fs * per_shift * s,
+                    Param::LoadCosine(j) => tau_c * load_basis[j] / fs * per_shift * s,
+                    Param::LoadStaticShare => tau_c * ex * hump_a * (load_scale - 1.0) * s,
                     Param::PositionGradient => tau_c * pos_x * s,
                     Param::PositionCosine(j) => tau_c * pos_basis[j] * s,
                     // the shift is added after the direction's ratios (FrictionModel::levels)
@@ -1011,6 +1033,9 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
         for j in 0..l.terms.min(fx::LOAD_TERMS) {
             l.cosine[j] = get(Param::LoadCosine(j)).unwrap_or(0.0);
         }
+        l.static_share = get(Param::LoadStaticShare)
+            .unwrap_or(1.0)
+            .clamp(-LOAD_STATIC_SHARE_BOUND, LOAD_STATIC_SHARE_BOUND);
     }
     if let Some(x) = effects.position_dependence.as_mut() {
         x.gradient = get(Param::PositionGradient).unwrap_or(0.0);
@@ -1182,6 +1207,7 @@ pub fn add_effect(
             let mut ld =
                 fx::LoadDependence::power(e.load_dependence.map_or(0.0, |l| l.coefficient), r, 1.0);
             ld.half_span = (hi - r).max(r - lo).max(1e3);
+            ld.static_share = e.load_dependence.map_or(1.0, |l| l.static_share);
             ld.terms = (nonlinear.round().max(0.0) as usize).min(fx::LOAD_TERMS);
             e.load_dependence = Some(ld);
         }

@@ -80,7 +80,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
     EffectInfo {
         kind: EffectKind::LoadDependence,
         meaning: "seal friction grows with chamber pressure (pressure-energised seals)",
-        linear: &[Param::LoadCoefficient],
+        linear: &[Param::LoadCoefficient, Param::LoadStaticShare],
         // the number of cosine terms of its shape over the record's pressure sums, chosen by
         // the information criterion: a straight line (0) or a smooth response the data picks
         // (a seal that saturates, one energised above some pressure)
