@@ -130,6 +130,10 @@ pub struct Fit {
     pub rss: f64,
     /// The linear estimates.
     pub estimates: Vec<Estimate>,
+    /// Their covariance (inflated as the standard errors are), rows and columns in
+    /// `estimates`' order; the static level's row is its hump's `Fs - Fc` (what the
+    /// regression solves for).
+    pub covariance: DMatrix<f64>,
     /// Linear parameters that ended at a bound of their physical range (see [`Bounds`]).
     pub at_bound: Vec<Param>,
     /// What the searches concluded about parameters beyond their values.
@@ -175,6 +179,26 @@ impl Fit {
     /// An estimate by parameter.
     pub fn estimate(&self, p: Param) -> Option<Estimate> {
         self.estimates.iter().copied().find(|e| e.param == p)
+    }
+
+    /// Whether `params` (those the fit has) exclude zero together at 95 %: the Wald
+    /// statistic `theta' Sigma^-1 theta` over them against the chi-square quantile for their
+    /// number (one parameter: `|theta| > 1.96 se`). A shape whose terms are correlated (a
+    /// slope and cosine terms) can be present beyond doubt while no single term's interval
+    /// excludes zero. `None` where none of them is fitted or their covariance is singular.
+    pub fn jointly_excludes_zero(&self, params: &[Param]) -> Option<bool> {
+        let at: Vec<usize> = params
+            .iter()
+            .filter_map(|q| self.estimates.iter().position(|e| e.param == *q))
+            .filter(|&j| j < self.covariance.nrows())
+            .collect();
+        if at.is_empty() {
+            return None;
+        }
+        let theta = DVector::from_iterator(at.len(), at.iter().map(|&j| self.estimates[j].value));
+        let sigma = DMatrix::from_fn(at.len(), at.len(), |a, b| self.covariance[(at[a], at[b])]);
+        let wald = theta.dot(&sigma.cholesky()?.solve(&theta));
+        Some(wald > chi_square_95(at.len()))
     }
 }
 
@@ -301,6 +325,7 @@ fn refit_iterations(
     // if the real model scores better.
     let (mut rss, mut sim, mut pred) = score(&model, true);
     let mut estimates = Vec::new();
+    let mut covariance = DMatrix::zeros(0, 0);
     // Levenberg-Marquardt damping mu (relative to the diagonal of J'J): raised tenfold when
     // an iterate scores worse, lowered after a success.
     let mut mu = 1e-6;
@@ -319,7 +344,7 @@ fn refit_iterations(
                 n_eff,
             )
         });
-        let (next, est) = linear_step(l, p, mu);
+        let (next, est, cov) = linear_step(l, p, mu);
         // a chord step's linearisation is moved, never built again, about the model it reaches
         let (next_rss, next_sim, next_pred) = score(&next, jacobian == Jacobian::Rebuilt);
         if next_rss <= rss {
@@ -333,6 +358,7 @@ fn refit_iterations(
                 _ => lin = None,
             }
             estimates = est;
+            covariance = cov;
             mu = (mu / 10.0).max(1e-9);
             if gain < 1e-5 {
                 break;
@@ -340,6 +366,7 @@ fn refit_iterations(
         } else {
             if estimates.is_empty() {
                 estimates = est;
+                covariance = cov;
             }
             mu *= 10.0;
             if mu > 1e4 {
@@ -364,6 +391,7 @@ fn refit_iterations(
         rel_err_pct: 100.0 * rss.sqrt() / p.force_norm,
         rss,
         estimates,
+        covariance,
         at_bound,
         flags: Flags::default(),
     }
@@ -405,6 +433,23 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
 /// of a seal whose Stribeck hump is a tenth of its Coulomb level may move several times the
 /// Coulomb level's share under pressure, either way.
 pub const LOAD_STATIC_SHARE_BOUND: f64 = 10.0;
+
+/// The 95 % quantile of the chi-square distribution with `k` degrees of freedom (a table to
+/// 12, the Wilson-Hilferty approximation beyond it).
+pub fn chi_square_95(k: usize) -> f64 {
+    const TABLE: [f64; 12] = [
+        3.841, 5.991, 7.815, 9.488, 11.070, 12.592, 14.067, 15.507, 16.919, 18.307, 19.675, 21.026,
+    ];
+    match k {
+        0 => 0.0,
+        1..=12 => TABLE[k - 1],
+        _ => {
+            let (k, z) = (k as f64, 1.644_853_6);
+            let h = 2.0 / (9.0 * k);
+            k * (1.0 - h + z * h.sqrt()).powi(3)
+        }
+    }
+}
 
 /// The physical range of each linear parameter on a record. A fit never leaves it, and a
 /// parameter that ends on its edge is reported ([`Fit::at_bound`]):
@@ -520,7 +565,11 @@ struct Linearisation<'p> {
 }
 
 /// One Levenberg-Marquardt step with damping `mu` from a linearisation.
-fn linear_step(lin: &Linearisation<'_>, p: &Prepared, mu: f64) -> (AxisModel, Vec<Estimate>) {
+fn linear_step(
+    lin: &Linearisation<'_>,
+    p: &Prepared,
+    mu: f64,
+) -> (AxisModel, Vec<Estimate>, DMatrix<f64>) {
     let (params, scale) = (&lin.params, &lin.scale);
     let k = params.len();
     // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space),
@@ -572,7 +621,8 @@ fn linear_step(lin: &Linearisation<'_>, p: &Prepared, mu: f64) -> (AxisModel, Ve
             },
         })
         .collect();
-    (rebuild(&lin.model, &estimates), estimates)
+    let covariance = DMatrix::from_fn(k, k, var);
+    (rebuild(&lin.model, &estimates), estimates, covariance)
 }
 
 // one pass over the samples fills every column: indexing reads clearer than zipped iterators
@@ -1517,5 +1567,85 @@ mod chord_tests {
         // Gauss-Newton's within 2 % of the error (measured 1.1 %)
         assert!(chord.rel_err_pct < 0.5 * one.rel_err_pct);
         assert!(chord.rel_err_pct <= 1.02 * rebuilt.rel_err_pct);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lugre_servo::friction::FrictionModel;
+
+    /// A fit of two cosine terms with the given values and covariance.
+    fn fit_of(values: [f64; 2], covariance: [[f64; 2]; 2]) -> Fit {
+        let params = LugreParams::new(1e8, 1e3, 2e3, 300.0, 400.0, 5e-3).unwrap();
+        let estimates = [Param::PositionCosine(0), Param::PositionCosine(1)]
+            .iter()
+            .zip(values)
+            .zip(0..)
+            .map(|((&param, value), j)| Estimate {
+                param,
+                value,
+                std_error: covariance[j][j].sqrt(),
+            })
+            .collect();
+        Fit {
+            model: AxisModel {
+                mass_kg: 200.0,
+                friction: FrictionModel {
+                    params,
+                    effects: fx::Effects::none(),
+                },
+            },
+            prediction: Vec::new(),
+            rel_err_pct: 1.0,
+            rel_err_all_pct: 1.0,
+            rss: 1.0,
+            estimates,
+            covariance: DMatrix::from_fn(2, 2, |a, b| covariance[a][b]),
+            at_bound: Vec::new(),
+            flags: Flags::default(),
+        }
+    }
+
+    /// Two strongly correlated terms whose intervals each include zero can exclude it
+    /// together (their difference is known to within a fraction of itself); uncorrelated
+    /// terms of the same sizes do not. One term alone is the familiar `|theta| > 1.96 se`.
+    #[test]
+    fn correlated_terms_are_judged_together() {
+        let both = [Param::PositionCosine(0), Param::PositionCosine(1)];
+        // se 2 each, correlation -0.999: var(c1 + c2) = 8 (1 - 0.999) = 0.008
+        let (v, c) = (4.0, -0.999 * 4.0);
+        let correlated = fit_of([1.5, -1.0], [[v, c], [c, v]]);
+        assert!(correlated
+            .estimates
+            .iter()
+            .all(|e| e.value.abs() < 1.96 * e.std_error));
+        assert_eq!(correlated.jointly_excludes_zero(&both), Some(true));
+        let independent = fit_of([1.5, -1.0], [[v, 0.0], [0.0, v]]);
+        assert_eq!(independent.jointly_excludes_zero(&both), Some(false));
+        // one term: 3.0 / 1.5 = 2.0 > 1.96, 2.9 / 1.5 < 1.96
+        let one = [Param::PositionCosine(0)];
+        assert_eq!(
+            fit_of([3.0, 0.0], [[2.25, 0.0], [0.0, 1.0]]).jointly_excludes_zero(&one),
+            Some(true)
+        );
+        assert_eq!(
+            fit_of([2.9, 0.0], [[2.25, 0.0], [0.0, 1.0]]).jointly_excludes_zero(&one),
+            Some(false)
+        );
+        // nothing fitted of those asked, or a singular covariance: no answer
+        assert_eq!(correlated.jointly_excludes_zero(&[Param::Offset]), None);
+        assert_eq!(
+            fit_of([1.0, 1.0], [[1.0, 1.0], [1.0, 1.0]]).jointly_excludes_zero(&both),
+            None
+        );
+        // the quantiles: the table and its continuation agree at 12 within 0.1 %
+        assert!((chi_square_95(1) - 1.96f64.powi(2)).abs() < 1e-3);
+        let wh = |k: f64| {
+            let h = 2.0 / (9.0 * k);
+            k * (1.0 - h + 1.644_853_6 * h.sqrt()).powi(3)
+        };
+        assert!((wh(12.0) / chi_square_95(12) - 1.0).abs() < 1e-3);
+        assert!(chi_square_95(13) > chi_square_95(12));
     }
 }

@@ -1959,12 +1959,23 @@ fn judge(
         q.ci_low = q.ci_low.min(v);
         q.ci_high = q.ci_high.max(v);
     }
-    let mut linear_excludes = false;
     let own = effect_params(info, &fit);
+    // the effect's presence: its terms whose "no effect" value is zero (a load's static share
+    // is 1 without the effect's shape mattering) excluding zero together
+    let presence: Vec<Param> = own
+        .iter()
+        .copied()
+        .filter(|q| *q != Param::LoadStaticShare)
+        .collect();
+    // (one term at a time where their covariance is singular or not known)
+    let joint = fit.jointly_excludes_zero(&presence);
+    let mut linear_excludes = joint.unwrap_or(false);
     for prm in &own {
         if let Some(e) = fit.estimate(*prm) {
             let half = 1.96 * e.std_error;
-            linear_excludes |= e.value.abs() > half;
+            if joint.is_none() && presence.contains(prm) {
+                linear_excludes |= e.value.abs() > half;
+            }
             parameters.push(ParamReport {
                 name: prm.label().into(),
                 value: e.value,
