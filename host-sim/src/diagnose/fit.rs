@@ -590,7 +590,19 @@ fn linear_step(
         })
         .unzip();
     let theta_scaled = box_solve(&lm, &rhs, &lo, &hi);
-    let mut theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
+    // a column that carries nothing here does not determine its parameter: it keeps its value
+    // (a load's static share where the pressure has not yet moved the levels, whose column
+    // `e H (L - 1)` is zero at L = 1, would otherwise drop to 0 and take the load's own
+    // columns with it on a baseline whose Coulomb level is 0)
+    let mut theta: Vec<f64> = (0..k)
+        .map(|j| {
+            if lin.xtx[(j, j)] > 0.0 {
+                theta_scaled[j] / scale[j]
+            } else {
+                lin.theta0[j]
+            }
+        })
+        .collect();
     let i_c = params.iter().position(|q| *q == Param::Coulomb);
     // the hump's bound used the previous Fc: clip the sum to the force bound
     if let (Some(c), Some(h)) = (i_c, params.iter().position(|q| *q == Param::Static)) {
