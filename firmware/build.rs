@@ -88,7 +88,9 @@ fn generate(path: &str) -> Result<String, String> {
                 ),
                 "offset" => format!("offset: Some(fx::Offset {{ force: {:?} }}),", n("force_n")? as f32),
                 "load_dependence" => format!(
-                    "load_dependence: Some(fx::LoadDependence {{ coefficient: {:?}, reference_pressure_sum: {:?}, exponent: {:?} }}),",
+                    "load_dependence: Some(fx::LoadDependence {{ static_share: {:?}, ..fx::LoadDependence::power({:?}, {:?}, {:?}) }}),",
+                    // files without it scale both levels in proportion
+                    if f.contains_key("static_share") { n("static_share")? } else { 1.0 } as f32,
                     n("coefficient_n_per_pa")? as f32,
                     n("reference_pressure_sum_pa")? as f32,
                     // files written before the exponent existed are linear
@@ -124,8 +126,8 @@ fn generate(path: &str) -> Result<String, String> {
                 ),
                 other => return Err(format!("[effects.{other}] is not an effect the firmware knows")),
             };
-            if name == "position_dependence" && f.get("cosine_n").is_some() {
-                return Err("[effects.position_dependence] cosine terms are not carried to the firmware yet".into());
+            if matches!(name.as_str(), "position_dependence" | "load_dependence") && f.get("cosine_n").is_some() {
+                return Err(format!("[effects.{name}] cosine terms are not carried to the firmware yet"));
             }
             writeln!(effects, "        {code}").ok();
         }

@@ -94,13 +94,22 @@ mod tables {
     pub struct OffsetT {
         pub force_n: f64,
     }
-    #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+    #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
     #[serde(deny_unknown_fields)]
     pub struct LoadT {
         pub coefficient_n_per_pa: f64,
         pub reference_pressure_sum_pa: f64,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         pub exponent: Option<f64>,
+        /// half the range of pressure sums the cosine terms span (absent: no cosine terms)
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub half_span_pa: Option<f64>,
+        /// the cosine terms c_1.. \[N\] (at most `LOAD_TERMS`, 4)
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        pub cosine_n: Vec<f64>,
+        /// the share of the scale's change the Stribeck hump takes (absent: 1, in proportion)
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub static_share: Option<f64>,
     }
     #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
     #[serde(deny_unknown_fields)]
@@ -219,6 +228,9 @@ impl ParamFile {
                     coefficient_n_per_pa: l.coefficient,
                     reference_pressure_sum_pa: l.reference_pressure_sum,
                     exponent: Some(l.exponent),
+                    half_span_pa: (l.terms > 0).then_some(l.half_span),
+                    cosine_n: l.cosine[..l.terms.min(l.cosine.len())].to_vec(),
+                    static_share: (l.static_share != 1.0).then_some(l.static_share),
                 }),
                 position_dependence: e.position_dependence.map(|x| PositionT {
                     gradient_n_per_m: x.gradient,
@@ -299,7 +311,7 @@ impl ParamFile {
             finite(K::Offset, &[o.force_n])?;
             effects.offset = Some(fx::Offset { force: o.force_n });
         }
-        if let Some(l) = e.load_dependence {
+        if let Some(l) = &e.load_dependence {
             // a file without `exponent` (written before it existed) is linear
             let exponent = l.exponent.unwrap_or(1.0);
             finite(
@@ -311,11 +323,30 @@ impl ParamFile {
                 ],
             )?;
             positive(K::LoadDependence, "exponent", exponent)?;
-            effects.load_dependence = Some(fx::LoadDependence {
-                coefficient: l.coefficient_n_per_pa,
-                reference_pressure_sum: l.reference_pressure_sum_pa,
+            finite(K::LoadDependence, &l.cosine_n)?;
+            let static_share = l.static_share.unwrap_or(1.0);
+            finite(K::LoadDependence, &[static_share])?;
+            let mut ld = fx::LoadDependence::power(
+                l.coefficient_n_per_pa,
+                l.reference_pressure_sum_pa,
                 exponent,
-            });
+            );
+            if !l.cosine_n.is_empty() {
+                if l.cosine_n.len() > fx::LOAD_TERMS {
+                    return Err(InvalidParams::TooManyCosineTerms {
+                        effect: K::LoadDependence,
+                        max: fx::LOAD_TERMS,
+                        got: l.cosine_n.len(),
+                    });
+                }
+                let span = l.half_span_pa.unwrap_or(f64::NAN);
+                positive(K::LoadDependence, "half_span_pa", span)?;
+                ld.half_span = span;
+                ld.terms = l.cosine_n.len();
+                ld.cosine[..ld.terms].copy_from_slice(&l.cosine_n);
+            }
+            ld.static_share = static_share;
+            effects.load_dependence = Some(ld);
         }
         if let Some(x) = &e.position_dependence {
             finite(K::PositionDependence, &[x.gradient_n_per_m, x.center_m])?;
@@ -324,6 +355,7 @@ impl ParamFile {
             if !x.cosine_n.is_empty() {
                 if x.cosine_n.len() > fx::POSITION_TERMS {
                     return Err(InvalidParams::TooManyCosineTerms {
+                        effect: K::PositionDependence,
                         max: fx::POSITION_TERMS,
                         got: x.cosine_n.len(),
                     });
@@ -529,9 +561,12 @@ pub enum InvalidParams {
     /// `[effects.asymmetry]` ratios outside (-1, 1) would reverse a direction's friction.
     #[error("[effects.asymmetry] ratios must be within (-1, 1)")]
     AsymmetryRatio,
-    /// `[effects.position_dependence] cosine_n` longer than the core holds.
-    #[error("[effects.position_dependence] cosine_n: at most {max} terms, got {got}")]
+    /// `[effects.position_dependence]` or `[effects.load_dependence]` `cosine_n` longer than
+    /// the core holds.
+    #[error("[effects.{effect}] cosine_n: at most {max} terms, got {got}")]
     TooManyCosineTerms {
+        /// The effect whose terms they are.
+        effect: EffectKind,
         /// The core's limit.
         max: usize,
         /// Terms in the file.

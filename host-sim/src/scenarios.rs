@@ -22,11 +22,11 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::R
         }
         K::Offset => e.offset = Some(fx::Offset { force: 150.0 * s }),
         K::LoadDependence => {
-            e.load_dependence = Some(fx::LoadDependence {
-                coefficient: 4e-5 * s,
-                reference_pressure_sum: cfg.valve.supply_pressure_pa,
-                exponent: 1.0,
-            })
+            e.load_dependence = Some(fx::LoadDependence::power(
+                4e-5 * s,
+                cfg.valve.supply_pressure_pa,
+                1.0,
+            ))
         }
         K::PositionDependence => {
             e.position_dependence = Some(fx::PositionDependence::linear(1000.0 * s, 0.25))

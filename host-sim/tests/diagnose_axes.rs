@@ -775,6 +775,17 @@ fn a_parameter_file_refuses_a_bad_position_shape() {
     .unwrap();
     let (_, m) = ParamFile::read(&path).unwrap();
     assert_eq!(m.effects.position_dependence.unwrap().terms, 2);
+    // a load dependence's series is written and read back the same (the file a diagnosis
+    // writes with it)
+    let mut l = lugre_servo::friction::effects::LoadDependence::power(2e-6, 150e5, 1.0);
+    (l.half_span, l.terms, l.static_share) = (40e5, 3, 0.4);
+    l.cosine[..3].copy_from_slice(&[12.5, -3.0, 0.75]);
+    let mut with_load = m;
+    with_load.effects.load_dependence = Some(l);
+    let path = dir.path().join("load.toml");
+    ParamFile::new(&with_load, 200.0).write(&path).unwrap();
+    let (_, back) = ParamFile::read(&path).unwrap();
+    assert_eq!(back.effects.load_dependence, Some(l));
 }
 
 /// The noise floor of a dwell record is the truth with its dwell effect: along the measured

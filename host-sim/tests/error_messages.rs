@@ -105,6 +105,18 @@ fn parameter_file_messages() {
         )),
         "DIR/p.toml: [effects.position_dependence] cosine_n: at most 8 terms, got 9"
     );
+    assert_eq!(
+        read(&format!(
+            "{GOOD}[effects.load_dependence]\ncoefficient_n_per_pa = 1e-6\nreference_pressure_sum_pa = 1e7\ncosine_n = [1, 2, 3, 4, 5]\nhalf_span_pa = 1e6\n"
+        )),
+        "DIR/p.toml: [effects.load_dependence] cosine_n: at most 4 terms, got 5"
+    );
+    assert_eq!(
+        read(&format!(
+            "{GOOD}[effects.load_dependence]\ncoefficient_n_per_pa = 1e-6\nreference_pressure_sum_pa = 1e7\ncosine_n = [1, 2]\n"
+        )),
+        "DIR/p.toml: [effects.load_dependence] half_span_pa must be greater than zero"
+    );
     let dwell = "[effects.dwell_stiction]\nmax_increase_n = 50\ntime_constant_s = 0.5\nstick_velocity_m_per_s = 2e-4\n";
     assert_eq!(
         read(&format!("{GOOD}{dwell}renewal_distance_m = 0\n")),

@@ -9,7 +9,7 @@
 //! | --- | --- |
 //! | `asymmetry` | `Fc -> (1 ± rc) Fc`, `Fs -> (1 ± rs) Fs`, `sigma2 -> (1 ± rv) sigma2`, `+` for v >= 0 |
 //! | `offset` | `F += F0` (constant external force, e.g. gravity on an inclined axis) |
-//! | `load_dependence` | `Fc, Fs -> (1 + dF(p) / Fs) Fc, Fs`, `dF = k p_ref ((p / p_ref)^gamma - 1) / gamma`, `p = p_a + p_b` (the seal's normal force: preload + pressure-energised; `k (p - p_ref)` at `gamma = 1`) |
+//! | `load_dependence` | `Fc -> L Fc`, `Fs - Fc -> (1 + beta (L - 1)) (Fs - Fc)`, `L = 1 + dF(p) / Fs`, `dF = k p_ref ((p / p_ref)^gamma - 1) / gamma + sum c_j cos(j pi u(p))`, `p = p_a + p_b` (the seal's normal force: preload + pressure-energised; `k (p - p_ref)` at `gamma = 1`; the cosine series over the pressure sums a smooth response the data picks) |
 //! | `position_dependence` | `Fc, Fs += k_x (x - x_c) + sum_j c_j cos(j pi u)`, `u = (x - x_c) / 2L + 1/2` in [0, 1] (friction varying along the stroke) |
 //! | `temperature_dependence` | `sigma2 -> sigma2 exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs` |
 //! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
@@ -38,30 +38,63 @@ pub struct Offset<T> {
     pub force: T,
 }
 
+/// Most cosine terms a load dependence carries: the seal's response to pressure is smooth
+/// (a lip that saturates, a seal energised above some pressure), four half-waves over the
+/// record's pressure range follow it.
+pub const LOAD_TERMS: usize = 4;
+
 /// Seal friction that grows with chamber pressure: the pressure adds to the seal's normal
-/// force, so both levels scale with it, `Fc, Fs -> (1 + dF(p) / Fs) Fc, Fs`, with the static
-/// level's change a power of the pressure sum `p`:
+/// force, so the levels scale with it, `Fc -> L Fc` and the Stribeck hump `Fs - Fc -> (1 +
+/// beta (L - 1)) (Fs - Fc)` with `L = 1 + dF(p) / Fs` (`beta = 1`: both levels in proportion,
+/// `Fs -> L Fs`; a seal whose breakaway grows less or more than its sliding friction has
+/// another share), with the static level's change a power of the pressure sum `p` plus a
+/// smooth shape:
 ///
 /// ```text
-/// dF(p) = k p_ref ((p / p_ref)^gamma - 1) / gamma
+/// dF(p) = k p_ref ((p / p_ref)^gamma - 1) / gamma + sum_{j=1..n} c_j cos(j pi u),
+///   u = clamp((p - p_ref) / (2 L) + 1/2, 0, 1)
 /// ```
 ///
 /// `k` is the static level's slope at the reference, whatever `gamma`; `gamma = 1` is the straight line
 /// `k (p - p_ref)`, `gamma < 1` a seal whose lip saturates as it is pressed, `gamma > 1` one that
-/// is energised progressively. A pressure sum below zero counts as zero; a non-positive
-/// `p_ref` or `gamma` falls back to the straight line.
+/// is energised progressively. The cosine series over the pressure sums `p_ref - L .. p_ref + L`
+/// represents any smooth response there (a seal energised only above some pressure, one that
+/// saturates), as [`PositionDependence`]'s does along the stroke; `n = 0` is the power law
+/// alone. A pressure sum below zero counts as zero; a non-positive `p_ref` or `gamma` falls
+/// back to the straight line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LoadDependence<T> {
     /// `k` [N/Pa]: the static level's slope at the reference pressure sum.
     pub coefficient: T,
-    /// `p_ref` \[Pa\]: the pressure sum at which the base Fc, Fs hold.
+    /// `p_ref` \[Pa\]: the pressure sum at which the base Fc, Fs hold (without cosine terms).
     pub reference_pressure_sum: T,
     /// `gamma` [-]: the power of the pressure sum (1: linear).
     pub exponent: T,
+    /// `L` \[Pa\] > 0: half the range of pressure sums the cosine series spans.
+    pub half_span: T,
+    /// `c_j` \[N\]: the cosine terms; only the first `terms` are used.
+    pub cosine: [T; LOAD_TERMS],
+    /// `n`: number of cosine terms in use (0..=[`LOAD_TERMS`]).
+    pub terms: usize,
+    /// `beta` [-]: the share of the scale's change the Stribeck hump takes (1: in proportion).
+    pub static_share: T,
 }
 
 impl<T: Float> LoadDependence<T> {
-    /// The regressor `dF / k` \[Pa\] at pressure sum `p` \[Pa\].
+    /// The power law alone (no cosine terms).
+    pub fn power(coefficient: T, reference_pressure_sum: T, exponent: T) -> Self {
+        Self {
+            coefficient,
+            reference_pressure_sum,
+            exponent,
+            half_span: T::one(),
+            cosine: [T::zero(); LOAD_TERMS],
+            terms: 0,
+            static_share: T::one(),
+        }
+    }
+
+    /// The regressor `dF / k` \[Pa\] at pressure sum `p` \[Pa\] (the power law's part).
     pub fn basis(&self, pressure_sum: T) -> T {
         let (r, g) = (self.reference_pressure_sum, self.exponent);
         if r > T::zero() && g > T::zero() && g.is_finite() && g != T::one() {
@@ -72,10 +105,50 @@ impl<T: Float> LoadDependence<T> {
         }
     }
 
-    /// The shift of Fc and Fs, `k basis(p)` \[N\].
-    pub fn shift(&self, pressure_sum: T) -> T {
-        self.coefficient * self.basis(pressure_sum)
+    /// The cosine basis at pressure sum `p`: `cos(j pi u)` for `j = 1..=terms`, zero beyond.
+    pub fn cosine_basis(&self, pressure_sum: T) -> [T; LOAD_TERMS] {
+        cosine_series(
+            pressure_sum,
+            self.reference_pressure_sum,
+            self.half_span,
+            self.terms,
+        )
     }
+
+    /// The shift of Fc and Fs, `dF(p)` \[N\].
+    pub fn shift(&self, pressure_sum: T) -> T {
+        let mut d = self.coefficient * self.basis(pressure_sum);
+        if self.terms > 0 {
+            let q = self.cosine_basis(pressure_sum);
+            for (c, q) in self.cosine.iter().zip(q.iter()).take(self.terms) {
+                d = d + *c * *q;
+            }
+        }
+        d
+    }
+}
+
+/// The half-range cosine basis of a condition `s` over `centre - half_span .. centre +
+/// half_span`: `cos(j pi u)`, `u = clamp((s - centre) / (2 half_span) + 1/2, 0, 1)`, for
+/// `j = 1..=terms`, zero beyond (Chebyshev recurrence: one cosine evaluation, and on the loop's
+/// path only the terms in use).
+fn cosine_series<T: Float, const N: usize>(s: T, centre: T, half_span: T, terms: usize) -> [T; N] {
+    let two = T::one() + T::one();
+    let half = T::one() / two;
+    let span = half_span.max(T::min_positive_value());
+    let u = ((s - centre) / (two * span) + half)
+        .max(T::zero())
+        .min(T::one());
+    let c1 = (T::from(core::f64::consts::PI).unwrap_or_else(T::one) * u).cos();
+    let mut out = [T::zero(); N];
+    let (mut prev, mut cur) = (T::one(), c1);
+    for o in out.iter_mut().take(terms) {
+        *o = cur;
+        let next = two * c1 * cur - prev;
+        prev = cur;
+        cur = next;
+    }
+    out
 }
 
 /// Most cosine terms a position dependence carries: eight half-waves over the span resolve a
@@ -122,22 +195,7 @@ impl<T: Float> PositionDependence<T> {
     /// (Chebyshev recurrence: one cosine evaluation, and on the loop's path only the terms in
     /// use).
     pub fn basis(&self, x: T) -> [T; POSITION_TERMS] {
-        let two = T::one() + T::one();
-        let half = T::one() / two;
-        let span = self.half_span.max(T::min_positive_value());
-        let u = ((x - self.center) / (two * span) + half)
-            .max(T::zero())
-            .min(T::one());
-        let c1 = (T::from(core::f64::consts::PI).unwrap_or_else(T::one) * u).cos();
-        let mut out = [T::zero(); POSITION_TERMS];
-        let (mut prev, mut cur) = (T::one(), c1);
-        for o in out.iter_mut().take(self.terms) {
-            *o = cur;
-            let next = two * c1 * cur - prev;
-            prev = cur;
-            cur = next;
-        }
-        out
+        cosine_series(x, self.center, self.half_span, self.terms)
     }
 
     /// The level shift `dF(x)` \[N\].
@@ -344,6 +402,10 @@ impl<T: Float> Effects<T> {
                 coefficient: c(l.coefficient),
                 reference_pressure_sum: c(l.reference_pressure_sum),
                 exponent: c(l.exponent),
+                half_span: c(l.half_span),
+                cosine: l.cosine.map(c),
+                terms: l.terms,
+                static_share: c(l.static_share),
             }),
             position_dependence: self.position_dependence.map(|p| PositionDependence {
                 gradient: c(p.gradient),
@@ -454,11 +516,7 @@ pub(crate) fn every_effect() -> Effects<f64> {
         viscous_ratio: 0.3,
     });
     all.offset = Some(Offset { force: 1.0 });
-    all.load_dependence = Some(LoadDependence {
-        coefficient: 1e-6,
-        reference_pressure_sum: 1e7,
-        exponent: 1.0,
-    });
+    all.load_dependence = Some(LoadDependence::power(1e-6, 1e7, 1.0));
     all.position_dependence = Some(PositionDependence::linear(2.0, 0.0));
     all.temperature_dependence = Some(TemperatureDependence {
         viscous_per_kelvin: 0.01,

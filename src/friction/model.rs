@@ -46,8 +46,9 @@ pub struct CurveStep<T> {
 /// whatever the direction (see [`FrictionModel::levels`]).
 #[derive(Clone, Copy, Debug)]
 struct ConditionFactors<T> {
-    /// `1 + dF(p) / Fs` of `load_dependence`.
-    load_scale: Option<T>,
+    /// `load_dependence`'s scale of the Coulomb level, `L = 1 + dF(p) / Fs`, and of the
+    /// Stribeck hump `Fs - Fc`, `1 + beta (L - 1)`.
+    load_scale: Option<(T, T)>,
     /// Added to both levels by `position_dependence` \[N\] (0 without it).
     position_shift: T,
     /// `temperature_dependence`'s scale of both levels and factor of the viscous coefficient.
@@ -129,7 +130,9 @@ impl<T: ModelFloat> FrictionModel<T> {
             // sits at zero, its friction all in the hump, would make the scale singular; Fs > 0
             // is a LugreParams invariant)
             load_scale: e.load_dependence.map(|l| {
-                (T::one() + l.shift(c.pressure_sum) / self.params.static_force()).max(T::zero())
+                let scale = (T::one() + l.shift(c.pressure_sum) / self.params.static_force())
+                    .max(T::zero());
+                (scale, T::one() + l.static_share * (scale - T::one()))
             }),
             position_shift: e
                 .position_dependence
@@ -161,9 +164,12 @@ impl<T: ModelFloat> FrictionModel<T> {
             static_ = static_ * (T::one() + s * a.static_ratio);
             viscous = viscous * (T::one() + s * a.viscous_ratio);
         }
-        if let Some(scale) = f.load_scale {
+        if let Some((scale, hump_scale)) = f.load_scale {
+            // the hump by its own share of the change (a static level below the Coulomb one is
+            // clamped below)
+            let hump = static_ - coulomb;
             coulomb = coulomb * scale;
-            static_ = static_ * scale;
+            static_ = coulomb + hump * hump_scale;
         }
         coulomb = coulomb + f.position_shift;
         static_ = static_ + f.position_shift;
@@ -622,11 +628,7 @@ mod tests {
     #[test]
     fn load_dependence_shifts_coulomb_and_static_with_pressure() {
         let mut m = base();
-        m.effects.load_dependence = Some(LoadDependence {
-            coefficient: 2e-5,
-            reference_pressure_sum: 100e5,
-            exponent: 1.0,
-        });
+        m.effects.load_dependence = Some(LoadDependence::power(2e-5, 100e5, 1.0));
         let c = Conditions {
             pressure_sum: 150e5,
             ..REF
@@ -646,6 +648,70 @@ mod tests {
         let h = 1e3;
         let slope = (q.shift(100e5 + h) - q.shift(100e5 - h)) / (2.0 * h);
         assert!((slope - 2e-5).abs() < 1e-12, "{slope}");
+    }
+
+    /// Under pressure the Coulomb level scales by `L = 1 + dF / Fs` and the Stribeck hump by
+    /// `1 + beta (L - 1)`: `beta = 1` keeps both levels in proportion, `beta = 0` a breakaway
+    /// that rises only by the Coulomb level's change, and a hump that would turn negative
+    /// leaves the static level at the Coulomb one.
+    #[test]
+    fn load_dependence_scales_the_hump_by_its_static_share() {
+        let mut m = base();
+        let c = Conditions {
+            pressure_sum: 150e5,
+            ..REF
+        };
+        // dF = 2e-5 * 50e5 = 100 N, L = 1 + 100 / 632
+        let scale = 1.0 + 100.0 / 632.0;
+        for (beta, hump) in [(1.0, 126.0 * scale), (0.0, 126.0), (-20.0, 0.0)] {
+            let mut q = LoadDependence::power(2e-5, 100e5, 1.0);
+            q.static_share = beta;
+            m.effects.load_dependence = Some(q);
+            let l = m.levels(0.01, &c, 0.0);
+            assert!((l.coulomb - 506.0 * scale).abs() < 1e-9, "{beta}");
+            let want = (126.0 * (1.0 + beta * (scale - 1.0))).max(0.0);
+            assert!((want - hump).abs() < 1e-9);
+            assert!(
+                (l.static_ - l.coulomb - want).abs() < 1e-9,
+                "{beta}: {}",
+                l.static_
+            );
+        }
+    }
+
+    /// The cosine series over the pressure sums adds `sum c_j cos(j pi u)` to the static
+    /// level's shift, u running 0..1 over `p_ref - L .. p_ref + L` and held at the ends
+    /// beyond: a seal energised only above some pressure is a shape the power law cannot
+    /// follow.
+    #[test]
+    fn load_dependence_follows_a_cosine_series_over_the_pressure_sums() {
+        let mut m = base();
+        let mut q = LoadDependence::power(1e-5, 100e5, 1.0);
+        q.half_span = 50e5;
+        q.terms = 2;
+        q.cosine = [30.0, -10.0, 99.0, 99.0];
+        m.effects.load_dependence = Some(q);
+        // (p, u): the span's ends, its centre, and beyond the top
+        for (p, u) in [(50e5, 0.0), (100e5, 0.5), (150e5, 1.0), (300e5, 1.0)] {
+            let pi = core::f64::consts::PI;
+            let series = 30.0 * (pi * u).cos() - 10.0 * (2.0 * pi * u).cos();
+            let line = 1e-5 * (p.min(300e5) - 100e5);
+            let want = line + series;
+            assert!(
+                (q.shift(p) - want).abs() < 1e-9,
+                "{p}: {} vs {want}",
+                q.shift(p)
+            );
+            let c = Conditions {
+                pressure_sum: p,
+                ..REF
+            };
+            let l = m.levels(0.01, &c, 0.0);
+            assert!((l.static_ - (632.0 + want)).abs() < 1e-9, "{p}");
+        }
+        // the unused terms (99 N) take no part
+        q.terms = 0;
+        assert!((q.shift(150e5) - 50.0).abs() < 1e-9);
     }
 
     #[test]
@@ -891,11 +957,7 @@ mod tests {
     #[test]
     fn levels_stay_physical_for_extreme_conditions() {
         let mut m = base();
-        m.effects.load_dependence = Some(LoadDependence {
-            coefficient: 1.0,
-            reference_pressure_sum: 0.0,
-            exponent: 1.0,
-        });
+        m.effects.load_dependence = Some(LoadDependence::power(1.0, 0.0, 1.0));
         let l = m.levels(
             0.01,
             &Conditions {

@@ -50,6 +50,10 @@ pub enum Param {
     Offset,
     /// load_dependence k [N/Pa].
     LoadCoefficient,
+    /// load_dependence c_j \[N\], j = 1.. (the index is j - 1).
+    LoadCosine(usize),
+    /// load_dependence beta [-]: the hump's share of the scale's change.
+    LoadStaticShare,
     /// position_dependence k_x [N/m].
     PositionGradient,
     /// position_dependence c_j \[N\], j = 1.. (the index is j - 1).
@@ -61,7 +65,7 @@ pub enum Param {
 }
 
 /// The cosine terms' labels, one per term the core carries (its length is the core's
-/// `POSITION_TERMS`: a change there must name its terms here).
+/// `POSITION_TERMS`, at least its `LOAD_TERMS`: a change there must name its terms here).
 const COSINE_LABELS: [&str; fx::POSITION_TERMS] = [
     "cosine_1_n",
     "cosine_2_n",
@@ -87,8 +91,11 @@ impl Param {
             Param::AsymViscous => "viscous_ratio",
             Param::Offset => "force_n",
             Param::LoadCoefficient => "coefficient_n_per_pa",
+            Param::LoadStaticShare => "static_share",
             Param::PositionGradient => "gradient_n_per_m",
-            Param::PositionCosine(j) => COSINE_LABELS.get(j).copied().unwrap_or("cosine_n"),
+            Param::PositionCosine(j) | Param::LoadCosine(j) => {
+                COSINE_LABELS.get(j).copied().unwrap_or("cosine_n")
+            }
             Param::TempCoulomb => "coulomb_per_kelvin",
             Param::DwellIncrease => "max_increase_n",
         }
@@ -123,6 +130,10 @@ pub struct Fit {
     pub rss: f64,
     /// The linear estimates.
     pub estimates: Vec<Estimate>,
+    /// Their covariance (inflated as the standard errors are), rows and columns in
+    /// `estimates`' order; the static level's row is its hump's `Fs - Fc` (what the
+    /// regression solves for).
+    pub covariance: DMatrix<f64>,
     /// Linear parameters that ended at a bound of their physical range (see [`Bounds`]).
     pub at_bound: Vec<Param>,
     /// What the searches concluded about parameters beyond their values.
@@ -168,6 +179,26 @@ impl Fit {
     /// An estimate by parameter.
     pub fn estimate(&self, p: Param) -> Option<Estimate> {
         self.estimates.iter().copied().find(|e| e.param == p)
+    }
+
+    /// Whether `params` (those the fit has) exclude zero together at 95 %: the Wald
+    /// statistic `theta' Sigma^-1 theta` over them against the chi-square quantile for their
+    /// number (one parameter: `|theta| > 1.96 se`). A shape whose terms are correlated (a
+    /// slope and cosine terms) can be present beyond doubt while no single term's interval
+    /// excludes zero. `None` where none of them is fitted or their covariance is singular.
+    pub fn jointly_excludes_zero(&self, params: &[Param]) -> Option<bool> {
+        let at: Vec<usize> = params
+            .iter()
+            .filter_map(|q| self.estimates.iter().position(|e| e.param == *q))
+            .filter(|&j| j < self.covariance.nrows())
+            .collect();
+        if at.is_empty() {
+            return None;
+        }
+        let theta = DVector::from_iterator(at.len(), at.iter().map(|&j| self.estimates[j].value));
+        let sigma = DMatrix::from_fn(at.len(), at.len(), |a, b| self.covariance[(at[a], at[b])]);
+        let wald = theta.dot(&sigma.cholesky()?.solve(&theta));
+        Some(wald > chi_square_95(at.len()))
     }
 }
 
@@ -294,6 +325,7 @@ fn refit_iterations(
     // if the real model scores better.
     let (mut rss, mut sim, mut pred) = score(&model, true);
     let mut estimates = Vec::new();
+    let mut covariance = DMatrix::zeros(0, 0);
     // Levenberg-Marquardt damping mu (relative to the diagonal of J'J): raised tenfold when
     // an iterate scores worse, lowered after a success.
     let mut mu = 1e-6;
@@ -312,7 +344,7 @@ fn refit_iterations(
                 n_eff,
             )
         });
-        let (next, est) = linear_step(l, p, mu);
+        let (next, est, cov) = linear_step(l, p, mu);
         // a chord step's linearisation is moved, never built again, about the model it reaches
         let (next_rss, next_sim, next_pred) = score(&next, jacobian == Jacobian::Rebuilt);
         if next_rss <= rss {
@@ -326,6 +358,7 @@ fn refit_iterations(
                 _ => lin = None,
             }
             estimates = est;
+            covariance = cov;
             mu = (mu / 10.0).max(1e-9);
             if gain < 1e-5 {
                 break;
@@ -333,6 +366,7 @@ fn refit_iterations(
         } else {
             if estimates.is_empty() {
                 estimates = est;
+                covariance = cov;
             }
             mu *= 10.0;
             if mu > 1e4 {
@@ -357,6 +391,7 @@ fn refit_iterations(
         rel_err_pct: 100.0 * rss.sqrt() / p.force_norm,
         rss,
         estimates,
+        covariance,
         at_bound,
         flags: Flags::default(),
     }
@@ -377,6 +412,11 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
         Param::AsymViscous => e.asymmetry.map_or(0.0, |a| a.viscous_ratio),
         Param::Offset => e.offset.map_or(0.0, |o| o.force),
         Param::LoadCoefficient => e.load_dependence.map_or(0.0, |l| l.coefficient),
+        Param::LoadCosine(j) => e
+            .load_dependence
+            .and_then(|l| l.cosine.get(j).copied())
+            .unwrap_or(0.0),
+        Param::LoadStaticShare => e.load_dependence.map_or(1.0, |l| l.static_share),
         Param::PositionGradient => e.position_dependence.map_or(0.0, |x| x.gradient),
         Param::PositionCosine(j) => e
             .position_dependence
@@ -386,6 +426,28 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
             .temperature_dependence
             .map_or(0.0, |t| t.coulomb_per_kelvin),
         Param::DwellIncrease => e.dwell_stiction.map_or(0.0, |d| d.max_increase),
+    }
+}
+
+/// Bound of a load dependence's static share (`beta`, [`Param::LoadStaticShare`]): the hump
+/// of a seal whose Stribeck hump is a tenth of its Coulomb level may move several times the
+/// Coulomb level's share under pressure, either way.
+pub const LOAD_STATIC_SHARE_BOUND: f64 = 10.0;
+
+/// The 95 % quantile of the chi-square distribution with `k` degrees of freedom (a table to
+/// 12, the Wilson-Hilferty approximation beyond it).
+pub fn chi_square_95(k: usize) -> f64 {
+    const TABLE: [f64; 12] = [
+        3.841, 5.991, 7.815, 9.488, 11.070, 12.592, 14.067, 15.507, 16.919, 18.307, 19.675, 21.026,
+    ];
+    match k {
+        0 => 0.0,
+        1..=12 => TABLE[k - 1],
+        _ => {
+            let (k, z) = (k as f64, 1.644_853_6);
+            let h = 2.0 / (9.0 * k);
+            k * (1.0 - h + z * h.sqrt()).powi(3)
+        }
     }
 }
 
@@ -440,6 +502,7 @@ impl Bounds {
             Param::BristleDamping => (0.0, self.damping),
             Param::AsymCoulomb | Param::AsymStatic | Param::AsymViscous => (-0.95, 0.95),
             Param::Offset => (-self.force, self.force),
+            Param::LoadStaticShare => (-LOAD_STATIC_SHARE_BOUND, LOAD_STATIC_SHARE_BOUND),
             _ => (f64::NEG_INFINITY, f64::INFINITY),
         }
     }
@@ -502,7 +565,11 @@ struct Linearisation<'p> {
 }
 
 /// One Levenberg-Marquardt step with damping `mu` from a linearisation.
-fn linear_step(lin: &Linearisation<'_>, p: &Prepared, mu: f64) -> (AxisModel, Vec<Estimate>) {
+fn linear_step(
+    lin: &Linearisation<'_>,
+    p: &Prepared,
+    mu: f64,
+) -> (AxisModel, Vec<Estimate>, DMatrix<f64>) {
     let (params, scale) = (&lin.params, &lin.scale);
     let k = params.len();
     // Levenberg-Marquardt: (A + mu diag A) theta = b + mu diag(A) theta0 (scaled space),
@@ -523,7 +590,19 @@ fn linear_step(lin: &Linearisation<'_>, p: &Prepared, mu: f64) -> (AxisModel, Ve
         })
         .unzip();
     let theta_scaled = box_solve(&lm, &rhs, &lo, &hi);
-    let mut theta: Vec<f64> = (0..k).map(|j| theta_scaled[j] / scale[j]).collect();
+    // a column that carries nothing here does not determine its parameter: it keeps its value
+    // (a load's static share where the pressure has not yet moved the levels, whose column
+    // `e H (L - 1)` is zero at L = 1, would otherwise drop to 0 and take the load's own
+    // columns with it on a baseline whose Coulomb level is 0)
+    let mut theta: Vec<f64> = (0..k)
+        .map(|j| {
+            if lin.xtx[(j, j)] > 0.0 {
+                theta_scaled[j] / scale[j]
+            } else {
+                lin.theta0[j]
+            }
+        })
+        .collect();
     let i_c = params.iter().position(|q| *q == Param::Coulomb);
     // the hump's bound used the previous Fc: clip the sum to the force bound
     if let (Some(c), Some(h)) = (i_c, params.iter().position(|q| *q == Param::Static)) {
@@ -554,7 +633,8 @@ fn linear_step(lin: &Linearisation<'_>, p: &Prepared, mu: f64) -> (AxisModel, Ve
             },
         })
         .collect();
-    (rebuild(&lin.model, &estimates), estimates)
+    let covariance = DMatrix::from_fn(k, k, var);
+    (rebuild(&lin.model, &estimates), estimates, covariance)
 }
 
 // one pass over the samples fills every column: indexing reads clearer than zipped iterators
@@ -604,8 +684,10 @@ fn linearise<'p>(
     if e.offset.is_some() {
         params.push(Param::Offset);
     }
-    if e.load_dependence.is_some() {
+    if let Some(l) = e.load_dependence {
         params.push(Param::LoadCoefficient);
+        params.extend((0..l.terms.min(fx::LOAD_TERMS)).map(Param::LoadCosine));
+        params.push(Param::LoadStaticShare);
     }
     if let Some(pd) = e.position_dependence {
         params.push(Param::PositionGradient);
@@ -652,17 +734,22 @@ fn linearise<'p>(
                 .temperature_dependence
                 .map_or(1.0, |t| (-t.viscous_per_kelvin * d_t).exp());
             let load_x = e.load_dependence.map_or(0.0, |l| l.basis(c.pressure_sum));
+            let load_basis = e
+                .load_dependence
+                .filter(|l| l.terms > 0)
+                .map_or([0.0; fx::LOAD_TERMS], |l| l.cosine_basis(c.pressure_sum));
             let pos_x = e.position_dependence.map_or(0.0, |x| c.position - x.center);
             let pos_basis = e
                 .position_dependence
                 .filter(|x| x.terms > 0)
                 .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
-            // the load scales both levels by the seal's normal force, `1 + k b(p) / Fs`
-            // (FrictionModel::levels; Fs > 0 is a LugreParams invariant); the position shift is
-            // added after it
-            let load_scale = e
-                .load_dependence
-                .map_or(1.0, |l| (1.0 + l.coefficient * load_x / fs).max(0.0));
+            // the load scales both levels by the seal's normal force, `1 + dF(p) / Fs`,
+            // `dF = k b(p) + sum c_j q_j(p)` (FrictionModel::levels; Fs > 0 is a LugreParams
+            // invariant); the position shift is added after it
+            let load_scale = e.load_dependence.map_or(1.0, |l| {
+                let series: f64 = l.cosine.iter().zip(&load_basis).map(|(c, q)| c * q).sum();
+                (1.0 + (l.coefficient * load_x + series) / fs).max(0.0)
+            });
             let shift = e
                 .position_dependence
                 .map_or(0.0, |x| x.shift_from(c.position, &pos_basis));
@@ -683,28 +770,40 @@ fn linearise<'p>(
             // g = Fc (1 + d rc) (1 - e) + Fs (1 + d rs) e, Fs = Fc + hump: the Coulomb level
             // everywhere, the hump near rest, each with its direction's ratio
             let (up_c, up_s) = (1.0 + d * rc, 1.0 + d * rs);
-            let level0 = fc * up_c * (1.0 - ex) + fs * up_s * ex;
-            let level = load_scale * level0;
+            // under pressure the Coulomb level scales by L and the hump by B = 1 + beta (L - 1)
+            // (FrictionModel::levels): g = L Fc_a + e H B, H = Fs_a - Fc_a the direction's hump
+            let (fc_a, hump_a) = (fc * up_c, fs * up_s - fc * up_c);
+            let beta = e.load_dependence.map_or(1.0, |l| l.static_share);
+            let hump_scale = 1.0 + beta * (load_scale - 1.0);
+            let level = load_scale * fc_a + ex * hump_a * hump_scale;
             // d(load_scale)/d(Fs) = -k b / Fs^2 (k held; zero without the effect), and
             // Fs = Fc + hump moves with both
             let scale_per_fs = -(load_scale - 1.0) / fs;
+            // what a change of dF moves, per newton over Fs
+            let per_shift = fc_a + ex * hump_a * beta;
             for (o, &prm) in out.iter_mut().zip(&built) {
                 o[at] = match prm {
                     // filtered with the record (`cached`): never built here
                     Param::Mass => p.a[i],
                     Param::Coulomb => {
                         tau_c
-                            * (load_scale * (up_c * (1.0 - ex) + up_s * ex) + scale_per_fs * level0)
+                            * (load_scale * up_c
+                                + scale_per_fs * per_shift
+                                + ex * (up_s - up_c) * hump_scale)
                             * s
                     }
-                    Param::Static => tau_c * (load_scale * up_s * ex + scale_per_fs * level0) * s,
+                    Param::Static => {
+                        tau_c * (scale_per_fs * per_shift + ex * up_s * hump_scale) * s
+                    }
                     Param::Viscous => (1.0 + d_now * rv) * kv_fac * v_term,
                     Param::BristleDamping => sim.deflection_rate[i],
-                    Param::AsymCoulomb => tau_c * load_scale * d * fc * (1.0 - ex) * s,
-                    Param::AsymStatic => tau_c * load_scale * d * fs * ex * s,
+                    Param::AsymCoulomb => tau_c * d * fc * (load_scale - ex * hump_scale) * s,
+                    Param::AsymStatic => tau_c * hump_scale * d * fs * ex * s,
                     Param::AsymViscous => d_now * s2 * kv_fac * v_term,
                     Param::Offset => 1.0,
-                    Param::LoadCoefficient => tau_c * load_x / fs * level0 * s,
+                    Param::LoadCoefficient => tau_c * load_x / fs * per_shift * s,
+                    Param::LoadCosine(j) => tau_c * load_basis[j] / fs * per_shift * s,
+                    Param::LoadStaticShare => tau_c * ex * hump_a * (load_scale - 1.0) * s,
                     Param::PositionGradient => tau_c * pos_x * s,
                     Param::PositionCosine(j) => tau_c * pos_basis[j] * s,
                     // the shift is added after the direction's ratios (FrictionModel::levels)
@@ -993,6 +1092,12 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
     }
     if let Some(l) = effects.load_dependence.as_mut() {
         l.coefficient = get(Param::LoadCoefficient).unwrap_or(0.0);
+        for j in 0..l.terms.min(fx::LOAD_TERMS) {
+            l.cosine[j] = get(Param::LoadCosine(j)).unwrap_or(0.0);
+        }
+        l.static_share = get(Param::LoadStaticShare)
+            .unwrap_or(1.0)
+            .clamp(-LOAD_STATIC_SHARE_BOUND, LOAD_STATIC_SHARE_BOUND);
     }
     if let Some(x) = effects.position_dependence.as_mut() {
         x.gradient = get(Param::PositionGradient).unwrap_or(0.0);
@@ -1150,17 +1255,23 @@ pub fn add_effect(
         }
         K::Offset => e.offset = Some(fx::Offset { force: 0.0 }),
         K::LoadDependence => {
-            let r = p
-                .pressure_sum
-                .as_ref()
-                .map_or(0.0, |s| crate::stats::median(s));
-            // `nonlinear`: the power of the pressure sum (a model that has the effect keeps its
-            // slope as the refit's start)
-            e.load_dependence = Some(fx::LoadDependence {
-                coefficient: e.load_dependence.map_or(0.0, |l| l.coefficient),
-                reference_pressure_sum: r,
-                exponent: if nonlinear > 0.0 { nonlinear } else { 1.0 },
-            })
+            let sums = p.pressure_sum.as_deref().unwrap_or(&[]);
+            let r = if sums.is_empty() {
+                0.0
+            } else {
+                crate::stats::median(sums)
+            };
+            let lo = sums.iter().cloned().fold(r, f64::min);
+            let hi = sums.iter().cloned().fold(r, f64::max);
+            // `nonlinear`: the number of cosine terms over the record's pressure sums, around
+            // the straight line through the median (a model that has the effect keeps its slope
+            // as the refit's start)
+            let mut ld =
+                fx::LoadDependence::power(e.load_dependence.map_or(0.0, |l| l.coefficient), r, 1.0);
+            ld.half_span = (hi - r).max(r - lo).max(1e3);
+            ld.static_share = e.load_dependence.map_or(1.0, |l| l.static_share);
+            ld.terms = (nonlinear.round().max(0.0) as usize).min(fx::LOAD_TERMS);
+            e.load_dependence = Some(ld);
         }
         K::PositionDependence => {
             let lo = p.x.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -1468,5 +1579,85 @@ mod chord_tests {
         // Gauss-Newton's within 2 % of the error (measured 1.1 %)
         assert!(chord.rel_err_pct < 0.5 * one.rel_err_pct);
         assert!(chord.rel_err_pct <= 1.02 * rebuilt.rel_err_pct);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lugre_servo::friction::FrictionModel;
+
+    /// A fit of two cosine terms with the given values and covariance.
+    fn fit_of(values: [f64; 2], covariance: [[f64; 2]; 2]) -> Fit {
+        let params = LugreParams::new(1e8, 1e3, 2e3, 300.0, 400.0, 5e-3).unwrap();
+        let estimates = [Param::PositionCosine(0), Param::PositionCosine(1)]
+            .iter()
+            .zip(values)
+            .zip(0..)
+            .map(|((&param, value), j)| Estimate {
+                param,
+                value,
+                std_error: covariance[j][j].sqrt(),
+            })
+            .collect();
+        Fit {
+            model: AxisModel {
+                mass_kg: 200.0,
+                friction: FrictionModel {
+                    params,
+                    effects: fx::Effects::none(),
+                },
+            },
+            prediction: Vec::new(),
+            rel_err_pct: 1.0,
+            rel_err_all_pct: 1.0,
+            rss: 1.0,
+            estimates,
+            covariance: DMatrix::from_fn(2, 2, |a, b| covariance[a][b]),
+            at_bound: Vec::new(),
+            flags: Flags::default(),
+        }
+    }
+
+    /// Two strongly correlated terms whose intervals each include zero can exclude it
+    /// together (their difference is known to within a fraction of itself); uncorrelated
+    /// terms of the same sizes do not. One term alone is the familiar `|theta| > 1.96 se`.
+    #[test]
+    fn correlated_terms_are_judged_together() {
+        let both = [Param::PositionCosine(0), Param::PositionCosine(1)];
+        // se 2 each, correlation -0.999: var(c1 + c2) = 8 (1 - 0.999) = 0.008
+        let (v, c) = (4.0, -0.999 * 4.0);
+        let correlated = fit_of([1.5, -1.0], [[v, c], [c, v]]);
+        assert!(correlated
+            .estimates
+            .iter()
+            .all(|e| e.value.abs() < 1.96 * e.std_error));
+        assert_eq!(correlated.jointly_excludes_zero(&both), Some(true));
+        let independent = fit_of([1.5, -1.0], [[v, 0.0], [0.0, v]]);
+        assert_eq!(independent.jointly_excludes_zero(&both), Some(false));
+        // one term: 3.0 / 1.5 = 2.0 > 1.96, 2.9 / 1.5 < 1.96
+        let one = [Param::PositionCosine(0)];
+        assert_eq!(
+            fit_of([3.0, 0.0], [[2.25, 0.0], [0.0, 1.0]]).jointly_excludes_zero(&one),
+            Some(true)
+        );
+        assert_eq!(
+            fit_of([2.9, 0.0], [[2.25, 0.0], [0.0, 1.0]]).jointly_excludes_zero(&one),
+            Some(false)
+        );
+        // nothing fitted of those asked, or a singular covariance: no answer
+        assert_eq!(correlated.jointly_excludes_zero(&[Param::Offset]), None);
+        assert_eq!(
+            fit_of([1.0, 1.0], [[1.0, 1.0], [1.0, 1.0]]).jointly_excludes_zero(&both),
+            None
+        );
+        // the quantiles: the table and its continuation agree at 12 within 0.1 %
+        assert!((chi_square_95(1) - 1.96f64.powi(2)).abs() < 1e-3);
+        let wh = |k: f64| {
+            let h = 2.0 / (9.0 * k);
+            k * (1.0 - h + 1.644_853_6 * h.sqrt()).powi(3)
+        };
+        assert!((wh(12.0) / chi_square_95(12) - 1.0).abs() < 1e-3);
+        assert!(chi_square_95(13) > chi_square_95(12));
     }
 }

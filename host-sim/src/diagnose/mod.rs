@@ -80,12 +80,13 @@ pub const EFFECTS: [EffectInfo; 8] = [
     EffectInfo {
         kind: EffectKind::LoadDependence,
         meaning: "seal friction grows with chamber pressure (pressure-energised seals)",
-        linear: &[Param::LoadCoefficient],
-        // the power of the pressure sum: a seal that saturates (< 1) or is energised
-        // progressively (> 1); the independent generator draws 0.7..1.5
-        nonlinear: Some(("exponent", &[0.6, 0.8, 1.0, 1.25, 1.6, 2.2], Some(1.0))),
+        linear: &[Param::LoadCoefficient, Param::LoadStaticShare],
+        // the number of cosine terms of its shape over the record's pressure sums, chosen by
+        // the information criterion: a straight line (0) or a smooth response the data picks
+        // (a seal that saturates, one energised above some pressure)
+        nonlinear: Some(("terms", &[0.0, 1.0, 2.0, 3.0, 4.0], None)),
         shape: None,
-        orders_first: None,
+        orders_first: Some(5),
     },
     EffectInfo {
         kind: EffectKind::PositionDependence,
@@ -175,17 +176,14 @@ fn effect_grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
 }
 
 /// The fitted linear parameters that belong to an effect: its own list, and the cosine terms of
-/// a position dependence.
+/// a position or load dependence.
 fn effect_params(info: &EffectInfo, fit: &Fit) -> Vec<Param> {
     let mut out: Vec<Param> = info.linear.to_vec();
-    if info.kind == EffectKind::PositionDependence {
-        out.extend(
-            fit.estimates
-                .iter()
-                .map(|e| e.param)
-                .filter(|q| matches!(q, Param::PositionCosine(_))),
-        );
-    }
+    out.extend(fit.estimates.iter().map(|e| e.param).filter(|q| match q {
+        Param::PositionCosine(_) => info.kind == EffectKind::PositionDependence,
+        Param::LoadCosine(_) => info.kind == EffectKind::LoadDependence,
+        _ => false,
+    }));
     out
 }
 
@@ -1961,12 +1959,23 @@ fn judge(
         q.ci_low = q.ci_low.min(v);
         q.ci_high = q.ci_high.max(v);
     }
-    let mut linear_excludes = false;
     let own = effect_params(info, &fit);
+    // the effect's presence: its terms whose "no effect" value is zero (a load's static share
+    // is 1 without the effect's shape mattering) excluding zero together
+    let presence: Vec<Param> = own
+        .iter()
+        .copied()
+        .filter(|q| *q != Param::LoadStaticShare)
+        .collect();
+    // (one term at a time where their covariance is singular or not known)
+    let joint = fit.jointly_excludes_zero(&presence);
+    let mut linear_excludes = joint.unwrap_or(false);
     for prm in &own {
         if let Some(e) = fit.estimate(*prm) {
             let half = 1.96 * e.std_error;
-            linear_excludes |= e.value.abs() > half;
+            if joint.is_none() && presence.contains(prm) {
+                linear_excludes |= e.value.abs() > half;
+            }
             parameters.push(ParamReport {
                 name: prm.label().into(),
                 value: e.value,
@@ -2171,7 +2180,7 @@ fn nonlinear_value(m: &AxisModel, effect: EffectKind) -> Option<f64> {
         EffectKind::ViscousPower => e.viscous_power.map(|v| v.exponent),
         EffectKind::DwellStiction => e.dwell_stiction.map(|d| d.time_constant),
         EffectKind::PositionDependence => e.position_dependence.map(|x| x.terms as f64),
-        EffectKind::LoadDependence => e.load_dependence.map(|l| l.exponent),
+        EffectKind::LoadDependence => e.load_dependence.map(|l| l.terms as f64),
         EffectKind::Asymmetry | EffectKind::Offset => None,
     }
 }

@@ -881,6 +881,7 @@ mod tests {
             rel_err_all_pct: 1.0,
             rss: 1.0,
             estimates: Vec::new(),
+            covariance: nalgebra::DMatrix::zeros(0, 0),
             at_bound: Vec::new(),
             flags: Flags::default(),
         }
