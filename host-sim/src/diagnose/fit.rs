@@ -1491,8 +1491,9 @@ mod chord_tests {
     }
 
     /// [`record_of`]'s motion and force, with chamber pressures whose sum wanders over 60..180
-    /// bar (`pressures`) so that a load dependence acts.
-    fn record_with(truth: &AxisModel, pressures: bool) -> Prepared {
+    /// bar and an oil temperature over 30..50 degC (`conditions`), so that a load and a
+    /// temperature dependence act.
+    fn record_with(truth: &AxisModel, conditions: bool) -> Prepared {
         let dt = 1e-3;
         let (mut x, mut t_move) = (0.0f64, 0.0f64);
         let xs: Vec<f64> = (0..12_000)
@@ -1510,18 +1511,19 @@ mod chord_tests {
             })
             .collect();
         let text_with = |force: &dyn Fn(usize) -> f64| {
-            let mut text = String::from(if pressures {
-                "t,x,force,p_a,p_b\n"
+            let mut text = String::from(if conditions {
+                "t,x,force,p_a,p_b,temp\n"
             } else {
                 "t,x,force\n"
             });
             for (i, x) in xs.iter().enumerate() {
                 let t = i as f64 * dt;
                 text.push_str(&format!("{t:.3},{x:.7},{:.4}", force(i)));
-                if pressures {
+                if conditions {
                     let p_a = 70e5 + 40e5 * (0.9 * t).sin();
                     let p_b = 50e5 + 20e5 * (0.35 * t).cos();
-                    text.push_str(&format!(",{p_a:.0},{p_b:.0}"));
+                    let temp = 40.0 + 10.0 * (0.4 * t).sin();
+                    text.push_str(&format!(",{p_a:.0},{p_b:.0},{temp:.3}"));
                 }
                 text.push('\n');
             }
@@ -1546,14 +1548,17 @@ mod chord_tests {
 
     /// The Gauss-Newton columns are derived by hand (the load's share and series, the
     /// asymmetry ratios, the levels through the load's scale): each must be its parameter's
-    /// derivative of the filtered prediction. On a model with every linear effect of the
-    /// load's kind (two cosine terms, a static share of 0.6), asymmetry and an offset, each
+    /// derivative of the filtered prediction. On a model with the load's series (two cosine
+    /// terms) and static share (0.6), asymmetry, an offset, a position dependence (three
+    /// cosine terms) and a temperature dependence, each
     /// column matches the central difference of the re-simulated prediction within 1 % rms
-    /// over the scored sliding samples (measured: 0.2 % at most). The share's `beta` dropped
+    /// over the scored sliding samples (measured: 0.4 % at most). The share's `beta` dropped
     /// from the load's columns errs by 12..14 %.
     #[test]
     fn columns_are_the_derivatives_of_the_prediction() {
-        use lugre_servo::friction::effects::{Asymmetry, LoadDependence, Offset};
+        use lugre_servo::friction::effects::{
+            Asymmetry, LoadDependence, Offset, PositionDependence, TemperatureDependence,
+        };
         // a Stribeck velocity of 40 mm/s keeps the hump, and what the share does to it, in
         // the sliding samples compared
         let mut m = with_nonlinear(&truth(), 0.04, 2e7);
@@ -1570,13 +1575,29 @@ mod chord_tests {
         load.cosine[..2].copy_from_slice(&[30.0, -15.0]);
         load.static_share = 0.6;
         e.load_dependence = Some(load);
+        let mut position = PositionDependence::linear(800.0, 0.012);
+        position.half_span = 0.015;
+        position.terms = 3;
+        position.cosine[..3].copy_from_slice(&[12.0, -8.0, 5.0]);
+        e.position_dependence = Some(position);
+        e.temperature_dependence = Some(TemperatureDependence {
+            viscous_per_kelvin: 0.01,
+            coulomb_per_kelvin: -0.004,
+            reference_temperature: 40.0,
+        });
         let p = record_with(&m, true);
         let decay = m.stribeck_decay(&p);
         let sim = m.simulate_with_decay(&p, &decay);
         let pred = p.filter(&m.predict(&p));
         let lin = linearise(&m, &sim, &pred, &decay, &p, None, None, 50.0);
         assert!(lin.params.contains(&Param::LoadStaticShare));
-        assert!(lin.params.contains(&Param::LoadCosine(1)));
+        for q in [
+            Param::LoadCosine(1),
+            Param::PositionCosine(2),
+            Param::TempCoulomb,
+        ] {
+            assert!(lin.params.contains(&q));
+        }
         // the model at regression coordinates `theta` (Fs = Fc + hump, as `linear_step`)
         let model_at = |theta: &[f64]| {
             let i_c = lin.params.iter().position(|q| *q == Param::Coulomb);
@@ -1620,6 +1641,7 @@ mod chord_tests {
                     Param::AsymCoulomb | Param::AsymStatic | Param::AsymViscous => 0.1,
                     Param::LoadStaticShare => 1.0,
                     Param::LoadCoefficient => 1e-6,
+                    Param::TempCoulomb => 1e-3,
                     _ => 10.0,
                 });
             let at = |d: f64| {
