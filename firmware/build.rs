@@ -80,11 +80,13 @@ fn generate(path: &str) -> Result<String, String> {
             let n = |k: &str| number(f, &format!("effects.{name}"), k);
             let code = match name.as_str() {
                 "asymmetry" => format!(
-                    "asymmetry: Some(fx::Asymmetry {{ coulomb_ratio: {:?}, static_ratio: {:?}, viscous_ratio: {:?} }}),",
+                    "asymmetry: Some(fx::Asymmetry {{ coulomb_ratio: {:?}, static_ratio: {:?}, viscous_ratio: {:?}, stribeck_velocity_ratio: {:?} }}),",
                     n("coulomb_ratio")? as f32,
                     // files written before the static ratio existed scale Fs with rc
                     if f.contains_key("static_ratio") { n("static_ratio")? } else { n("coulomb_ratio")? } as f32,
-                    n("viscous_ratio")? as f32
+                    n("viscous_ratio")? as f32,
+                    // and before the Stribeck velocity ratio existed, the same vs both ways
+                    if f.contains_key("stribeck_velocity_ratio") { n("stribeck_velocity_ratio")? } else { 0.0 } as f32
                 ),
                 "offset" => format!("offset: Some(fx::Offset {{ force: {:?} }}),", n("force_n")? as f32),
                 "load_dependence" => format!(

@@ -16,6 +16,7 @@
 //! coulomb_ratio = 0.1
 //! static_ratio = 0.05                    # optional: rc when absent (older files)
 //! viscous_ratio = 0.2
+//! stribeck_velocity_ratio = -0.1         # optional: 0 when absent
 //!
 //! [fit]                                  # optional: how the values were obtained
 //! algorithm = "improved"
@@ -88,6 +89,8 @@ mod tables {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         pub static_ratio: Option<f64>,
         pub viscous_ratio: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pub stribeck_velocity_ratio: Option<f64>,
     }
     #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
     #[serde(deny_unknown_fields)]
@@ -222,6 +225,8 @@ impl ParamFile {
                     coulomb_ratio: a.coulomb_ratio,
                     static_ratio: Some(a.static_ratio),
                     viscous_ratio: a.viscous_ratio,
+                    stribeck_velocity_ratio: (a.stribeck_velocity_ratio != 0.0)
+                        .then_some(a.stribeck_velocity_ratio),
                 }),
                 offset: e.offset.map(|o| OffsetT { force_n: o.force }),
                 load_dependence: e.load_dependence.map(|l| LoadT {
@@ -297,14 +302,20 @@ impl ParamFile {
         if let Some(a) = e.asymmetry {
             // a file without `static_ratio` (written before it existed) scales Fs with rc
             let rs = a.static_ratio.unwrap_or(a.coulomb_ratio);
-            finite(K::Asymmetry, &[a.coulomb_ratio, rs, a.viscous_ratio])?;
-            if a.coulomb_ratio.abs() >= 1.0 || rs.abs() >= 1.0 || a.viscous_ratio.abs() >= 1.0 {
+            // absent: the same Stribeck velocity both ways
+            let rvs = a.stribeck_velocity_ratio.unwrap_or(0.0);
+            finite(K::Asymmetry, &[a.coulomb_ratio, rs, a.viscous_ratio, rvs])?;
+            if [a.coulomb_ratio, rs, a.viscous_ratio, rvs]
+                .iter()
+                .any(|r| r.abs() >= 1.0)
+            {
                 return Err(InvalidParams::AsymmetryRatio);
             }
             effects.asymmetry = Some(fx::Asymmetry {
                 coulomb_ratio: a.coulomb_ratio,
                 static_ratio: rs,
                 viscous_ratio: a.viscous_ratio,
+                stribeck_velocity_ratio: rvs,
             });
         }
         if let Some(o) = e.offset {

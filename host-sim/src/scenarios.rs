@@ -18,6 +18,7 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::R
                 coulomb_ratio: 0.15 * s,
                 static_ratio: 0.15 * s,
                 viscous_ratio: 0.25 * s,
+                stribeck_velocity_ratio: 0.0,
             })
         }
         K::Offset => e.offset = Some(fx::Offset { force: 150.0 * s }),

@@ -144,10 +144,23 @@ fn parameter_file_messages() {
     .unwrap();
     let (_, m) = ParamFile::read(&old).unwrap();
     assert_eq!(m.effects.asymmetry.map(|a| a.static_ratio), Some(0.1));
-    // and one written now carries it and reads back unchanged
+    // the Stribeck velocity ratio: absent (older files) the same vs both ways; checked like
+    // the others
+    assert_eq!(
+        m.effects.asymmetry.map(|a| a.stribeck_velocity_ratio),
+        Some(0.0)
+    );
+    assert_eq!(
+        read(&format!(
+            "{GOOD}[effects.asymmetry]\ncoulomb_ratio = 0.1\nviscous_ratio = 0\nstribeck_velocity_ratio = 1.0\n"
+        )),
+        "DIR/p.toml: [effects.asymmetry] ratios must be within (-1, 1)"
+    );
+    // and one written now carries both and reads back unchanged
     let mut m2 = m;
     if let Some(a) = m2.effects.asymmetry.as_mut() {
         a.static_ratio = -0.05;
+        a.stribeck_velocity_ratio = 0.35;
     }
     let f = ParamFile::new(&m2, 200.0);
     f.write_checked(&old).unwrap();

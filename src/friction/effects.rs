@@ -7,7 +7,7 @@
 //!
 //! | effect | equation |
 //! | --- | --- |
-//! | `asymmetry` | `Fc -> (1 ± rc) Fc`, `Fs -> (1 ± rs) Fs`, `sigma2 -> (1 ± rv) sigma2`, `+` for v >= 0 |
+//! | `asymmetry` | `Fc -> (1 ± rc) Fc`, `Fs -> (1 ± rs) Fs`, `sigma2 -> (1 ± rv) sigma2`, `vs -> (1 ± rvs) vs`, `+` for v >= 0 |
 //! | `offset` | `F += F0` (constant external force, e.g. gravity on an inclined axis) |
 //! | `load_dependence` | `Fc -> L Fc`, `Fs - Fc -> (1 + beta (L - 1)) (Fs - Fc)`, `L = 1 + dF(p) / Fs`, `dF = k p_ref ((p / p_ref)^gamma - 1) / gamma + sum c_j cos(j pi u(p))`, `p = p_a + p_b` (the seal's normal force: preload + pressure-energised; `k (p - p_ref)` at `gamma = 1`; the cosine series over the pressure sums a smooth response the data picks) |
 //! | `position_dependence` | `Fc, Fs += k_x (x - x_c) + sum_j c_j cos(j pi u)`, `u = (x - x_c) / 2L + 1/2` in [0, 1] (friction varying along the stroke) |
@@ -29,6 +29,10 @@ pub struct Asymmetry<T> {
     pub static_ratio: T,
     /// `rv`: relative viscous change, `+rv` moving in +x, `-rv` in -x [-].
     pub viscous_ratio: T,
+    /// `rvs`: relative Stribeck velocity change, `vs (1 + rvs)` moving in +x, `vs (1 - rvs)` in
+    /// -x [-]: a seal's lip or a lubricating film can lift at another speed in each direction
+    /// (0: the same both ways). The factor is held at 0.05 or more, so `vs` stays positive.
+    pub stribeck_velocity_ratio: T,
 }
 
 /// A constant external force.
@@ -396,6 +400,7 @@ impl<T: Float> Effects<T> {
                 coulomb_ratio: c(a.coulomb_ratio),
                 static_ratio: c(a.static_ratio),
                 viscous_ratio: c(a.viscous_ratio),
+                stribeck_velocity_ratio: c(a.stribeck_velocity_ratio),
             }),
             offset: self.offset.map(|o| Offset { force: c(o.force) }),
             load_dependence: self.load_dependence.map(|l| LoadDependence {
@@ -514,6 +519,7 @@ pub(crate) fn every_effect() -> Effects<f64> {
         coulomb_ratio: 0.1,
         static_ratio: 0.2,
         viscous_ratio: 0.3,
+        stribeck_velocity_ratio: 0.15,
     });
     all.offset = Some(Offset { force: 1.0 });
     all.load_dependence = Some(LoadDependence::power(1e-6, 1e7, 1.0));

@@ -198,12 +198,24 @@ impl<T: ModelFloat> FrictionModel<T> {
     }
 
     /// The Stribeck curve's decay `s(v) = e^{-(|v| / vs)^delta}` (`delta` = 2 without
-    /// `stribeck_shape`), in `[0, 1]`. It depends on the velocity, `vs` and `delta` only, not
-    /// on the levels: a caller that steps many models sharing them along one velocity record
-    /// computes it once per sample (see [`Self::step_split_with_curve`]).
+    /// `stribeck_shape`; `vs` the direction's, `(1 ± rvs) vs` with `asymmetry`), in `[0, 1]`.
+    /// It depends on the velocity, `vs`, `rvs` and `delta` only, not on the levels: a caller
+    /// that steps many models sharing them along one velocity record computes it once per
+    /// sample (see [`Self::step_split_with_curve`]).
     #[inline]
     pub fn stribeck_decay(&self, velocity: T) -> T {
-        let r = (velocity / self.params.stribeck_velocity()).abs();
+        let mut vs = self.params.stribeck_velocity();
+        if let Some(a) = self.effects.asymmetry {
+            let s = if velocity >= T::zero() {
+                T::one()
+            } else {
+                -T::one()
+            };
+            // a ratio at or past 1 (or not a number) would stop one direction's hump
+            let least = T::from(0.05).unwrap_or_else(T::epsilon);
+            vs = vs * (T::one() + s * a.stribeck_velocity_ratio).max(least);
+        }
+        let r = (velocity / vs).abs();
         let shape = match self.effects.stribeck_shape {
             Some(s) => r.powf(s.exponent),
             None => r * r,
@@ -515,6 +527,7 @@ mod tests {
             coulomb_ratio: 0.25,
             static_ratio: 0.25,
             viscous_ratio: 0.0,
+            stribeck_velocity_ratio: 0.0,
         });
         let mut s = FrictionState::default();
         let dt = 1e-3;
@@ -547,6 +560,7 @@ mod tests {
             coulomb_ratio: 0.2,
             static_ratio: -0.1,
             viscous_ratio: 0.05,
+            stribeck_velocity_ratio: 0.3,
         });
         m.effects.dwell_stiction = Some(DwellStiction {
             max_increase: 120.0,
@@ -601,6 +615,7 @@ mod tests {
             coulomb_ratio: 0.1,
             static_ratio: -0.05,
             viscous_ratio: 0.2,
+            stribeck_velocity_ratio: 0.0,
         });
         let v = 0.05; // far past vs: g = Fc
         let p = m.params;
@@ -614,6 +629,33 @@ mod tests {
         assert!((l_up.static_ - p.static_force() * 0.95).abs() < 1e-9);
         assert!((l_down.static_ - p.static_force() * 1.05).abs() < 1e-9);
         assert!((l_up.coulomb - p.coulomb_force() * 1.1).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_stribeck_velocity_differs_per_direction() {
+        let mut m = base();
+        let vs = m.params.stribeck_velocity();
+        m.effects.asymmetry = Some(Asymmetry {
+            coulomb_ratio: 0.0,
+            static_ratio: 0.0,
+            viscous_ratio: 0.0,
+            stribeck_velocity_ratio: 0.25,
+        });
+        // at v = ±vs: exp(-(1 / 1.25)^2) forward, exp(-(1 / 0.75)^2) backward
+        assert!((m.stribeck_decay(vs) - (-(0.8f64).powi(2)).exp()).abs() < 1e-12);
+        assert!((m.stribeck_decay(-vs) - (-(1.0 / 0.75f64).powi(2)).exp()).abs() < 1e-12);
+        // a ratio of 1 or more, or not a number, keeps a positive vs and a finite decay
+        for r in [1.0, 3.0, -5.0, f64::NAN, f64::INFINITY] {
+            m.effects
+                .asymmetry
+                .as_mut()
+                .unwrap()
+                .stribeck_velocity_ratio = r;
+            for v in [-vs, 0.0, vs] {
+                let d = m.stribeck_decay(v);
+                assert!((0.0..=1.0).contains(&d), "{r} {v} {d}");
+            }
+        }
     }
 
     #[test]
@@ -918,6 +960,7 @@ mod tests {
             coulomb_ratio: 0.2,
             static_ratio: 0.1,
             viscous_ratio: 0.05,
+            stribeck_velocity_ratio: -0.2,
         });
         m.effects.dwell_stiction = Some(DwellStiction {
             max_increase: 150.0,
