@@ -1323,7 +1323,8 @@ fn search_stribeck_ratio(
         .map(|i| (coarse + 0.05 * f64::from(i)).clamp(-0.9, 0.9))
         .collect();
     let (_, mut f, _) = fit::grid_min(&fine, eval);
-    if !(n_eff * (current.rss / f.rss).ln() > 3.84) {
+    let gain = n_eff * (current.rss / f.rss).ln();
+    if gain.is_nan() || gain <= 3.84 {
         return None;
     }
     f.flags = current.flags.clone();
