@@ -298,6 +298,34 @@ impl ParamFile {
                 Err(InvalidParams::NotPositive { effect, field })
             }
         };
+        // a cosine series' terms and the half span they cover, checked (`None`: no terms)
+        fn series<const N: usize>(
+            effect: K,
+            cosine_n: &[f64],
+            half_span: Option<f64>,
+            span_field: &'static str,
+        ) -> Result<Option<(f64, [f64; N], usize)>, InvalidParams> {
+            if cosine_n.is_empty() {
+                return Ok(None);
+            }
+            if cosine_n.len() > N {
+                return Err(InvalidParams::TooManyCosineTerms {
+                    effect,
+                    max: N,
+                    got: cosine_n.len(),
+                });
+            }
+            let span = half_span.unwrap_or(f64::NAN);
+            if span.is_nan() || span <= 0.0 {
+                return Err(InvalidParams::NotPositive {
+                    effect,
+                    field: span_field,
+                });
+            }
+            let mut c = [0.0; N];
+            c[..cosine_n.len()].copy_from_slice(cosine_n);
+            Ok(Some((span, c, cosine_n.len())))
+        }
         let mut effects = Effects::none();
         if let Some(a) = e.asymmetry {
             // a file without `static_ratio` (written before it existed) scales Fs with rc
@@ -342,19 +370,13 @@ impl ParamFile {
                 l.reference_pressure_sum_pa,
                 exponent,
             );
-            if !l.cosine_n.is_empty() {
-                if l.cosine_n.len() > fx::LOAD_TERMS {
-                    return Err(InvalidParams::TooManyCosineTerms {
-                        effect: K::LoadDependence,
-                        max: fx::LOAD_TERMS,
-                        got: l.cosine_n.len(),
-                    });
-                }
-                let span = l.half_span_pa.unwrap_or(f64::NAN);
-                positive(K::LoadDependence, "half_span_pa", span)?;
-                ld.half_span = span;
-                ld.terms = l.cosine_n.len();
-                ld.cosine[..ld.terms].copy_from_slice(&l.cosine_n);
+            if let Some((span, c, n)) = series::<{ fx::LOAD_TERMS }>(
+                K::LoadDependence,
+                &l.cosine_n,
+                l.half_span_pa,
+                "half_span_pa",
+            )? {
+                (ld.half_span, ld.cosine, ld.terms) = (span, c, n);
             }
             ld.static_share = static_share;
             effects.load_dependence = Some(ld);
@@ -363,19 +385,13 @@ impl ParamFile {
             finite(K::PositionDependence, &[x.gradient_n_per_m, x.center_m])?;
             finite(K::PositionDependence, &x.cosine_n)?;
             let mut pd = fx::PositionDependence::linear(x.gradient_n_per_m, x.center_m);
-            if !x.cosine_n.is_empty() {
-                if x.cosine_n.len() > fx::POSITION_TERMS {
-                    return Err(InvalidParams::TooManyCosineTerms {
-                        effect: K::PositionDependence,
-                        max: fx::POSITION_TERMS,
-                        got: x.cosine_n.len(),
-                    });
-                }
-                let span = x.half_span_m.unwrap_or(f64::NAN);
-                positive(K::PositionDependence, "half_span_m", span)?;
-                pd.half_span = span;
-                pd.terms = x.cosine_n.len();
-                pd.cosine[..pd.terms].copy_from_slice(&x.cosine_n);
+            if let Some((span, c, n)) = series::<{ fx::POSITION_TERMS }>(
+                K::PositionDependence,
+                &x.cosine_n,
+                x.half_span_m,
+                "half_span_m",
+            )? {
+                (pd.half_span, pd.cosine, pd.terms) = (span, c, n);
             }
             effects.position_dependence = Some(pd);
         }

@@ -1689,17 +1689,16 @@ mod chord_tests {
             });
             m
         };
+        let ratio_of = |f: &Fit| {
+            let a = f.model.friction.effects.asymmetry;
+            a.map_or(f64::NAN, |a| a.stribeck_velocity_ratio)
+        };
         let n_eff = 200.0;
         let p = record_of(&with_ratio(0.33));
         let start = refit(&with_ratio(0.0), &p, None, n_eff);
         let found = crate::diagnose::search_stribeck_ratio(&start, &p, None, n_eff)
             .expect("a ratio that matters");
-        let r = found
-            .model
-            .friction
-            .effects
-            .asymmetry
-            .map_or(f64::NAN, |a| a.stribeck_velocity_ratio);
+        let r = ratio_of(&found);
         eprintln!(
             "ratio {r:.3}, error {:.3} -> {:.3} %",
             start.rel_err_pct, found.rel_err_pct
@@ -1710,12 +1709,7 @@ mod chord_tests {
         let p0 = record_of(&with_ratio(0.0));
         let start0 = refit(&with_ratio(0.0), &p0, None, n_eff);
         if let Some(f) = crate::diagnose::search_stribeck_ratio(&start0, &p0, None, n_eff) {
-            let r0 = f
-                .model
-                .friction
-                .effects
-                .asymmetry
-                .map_or(f64::NAN, |a| a.stribeck_velocity_ratio);
+            let r0 = ratio_of(&f);
             assert!(r0.abs() <= 0.1, "{r0}");
         }
     }
