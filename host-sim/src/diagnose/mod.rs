@@ -1199,7 +1199,7 @@ pub struct Search {
     /// [`REFINE_TOLERANCE_LN`]).
     pub refine: bool,
     /// Whether a model with `asymmetry` has its Stribeck velocity ratio searched too
-    /// ([`search_stribeck_ratio`]): a stage's model, not a candidate's ranking.
+    /// (`search_stribeck_ratio`): a stage's model, not a candidate's ranking.
     pub stribeck_ratio: bool,
 }
 
@@ -1286,12 +1286,23 @@ pub const STRIBECK_RATIO_NAME: &str = "stribeck_velocity_ratio";
 /// speed both ways (0) to one direction's hump lifting at four times the other's speed (0.6).
 pub const STRIBECK_RATIO_GRID: [f64; 7] = [-0.6, -0.4, -0.2, 0.0, 0.2, 0.4, 0.6];
 
+/// The second pass's step about the coarse grid's best ratio, two steps each way: the search
+/// reaches `±(0.6 + 2 x 0.05) = ±0.7`.
+const STRIBECK_RATIO_FINE_STEP: f64 = 0.05;
+
+/// The ratios the search can end at: the coarse grid's ends, two fine steps beyond.
+pub const STRIBECK_RATIO_REACH: (f64, f64) = (
+    STRIBECK_RATIO_GRID[0] - 2.0 * STRIBECK_RATIO_FINE_STEP,
+    STRIBECK_RATIO_GRID[STRIBECK_RATIO_GRID.len() - 1] + 2.0 * STRIBECK_RATIO_FINE_STEP,
+);
+
 /// The fit with the asymmetry's Stribeck velocity ratio searched on [`STRIBECK_RATIO_GRID`]
 /// and again at a quarter of its step about the best point (each time at the parabola's
-/// vertex between the best point and its neighbours too), the levels refitted at each: `Some` where the model has asymmetry and the best ratio beats
-/// `current` by the likelihood-ratio test's 95 % threshold for one parameter,
-/// `n_eff ln(RSS_0 / RSS) > 3.84` (a record that does not determine it keeps its ratio, 0 as
-/// added). A ratio at an end of the grid is reported ([`effect_search_edges`]).
+/// vertex between the best point and its neighbours too), the levels refitted at each:
+/// `Some` where the model has asymmetry and the best ratio beats `current` by the
+/// likelihood-ratio test's 95 % threshold for one parameter, `n_eff ln(RSS_0 / RSS) > 3.84`
+/// (a record that does not determine it keeps its ratio, 0 as added). A ratio at an end of
+/// [`STRIBECK_RATIO_REACH`] is reported ([`effect_search_edges`]).
 /// The candidates' ranking does not search it ([`Search::stribeck_ratio`]): the probe that
 /// asked for it (session 46) found the ranking right and the stage's error short of the floor.
 fn search_stribeck_ratio(
@@ -1320,7 +1331,7 @@ fn search_stribeck_ratio(
     // the step about the best point (a ratio of 0.33 was found at 0.29, 0.26 % against the
     // truth's 0.09 %, from the coarse grid's vertex alone)
     let fine: Vec<f64> = (-2..=2)
-        .map(|i| (coarse + 0.05 * f64::from(i)).clamp(-0.9, 0.9))
+        .map(|i| coarse + STRIBECK_RATIO_FINE_STEP * f64::from(i))
         .collect();
     let (_, mut f, _) = fit::grid_min(&fine, eval);
     let gain = n_eff * (current.rss / f.rss).ln();
@@ -2234,7 +2245,7 @@ pub fn effect_search_edges(m: &AxisModel) -> Vec<SearchEdge> {
     }
     // the asymmetry's Stribeck velocity ratio, searched by a stage
     if let Some(a) = m.friction.effects.asymmetry {
-        let range = ends(&STRIBECK_RATIO_GRID);
+        let range = STRIBECK_RATIO_REACH;
         let v = a.stribeck_velocity_ratio;
         if v != 0.0 && (v <= range.0 || v >= range.1) {
             out.push(SearchEdge {
@@ -2805,6 +2816,32 @@ mod search_edge_tests {
             mass_kg: 200.0,
             friction: FrictionModel { params, effects },
         }
+    }
+
+    /// The asymmetry's Stribeck velocity ratio is reported at the edge where the search
+    /// ends at its reach (±0.7), not inside it or at 0 (the ratio as added).
+    #[test]
+    fn a_stribeck_ratio_at_the_search_reach_is_reported() {
+        let with_ratio = |r: f64| {
+            let mut e = fx::Effects::none();
+            e.asymmetry = Some(fx::Asymmetry {
+                coulomb_ratio: 0.1,
+                static_ratio: 0.1,
+                viscous_ratio: 0.0,
+                stribeck_velocity_ratio: r,
+            });
+            effect_search_edges(&model(e))
+        };
+        for r in [0.0, 0.5, -0.6, 0.65] {
+            assert!(with_ratio(r).is_empty(), "{r}");
+        }
+        for r in [STRIBECK_RATIO_REACH.0, STRIBECK_RATIO_REACH.1] {
+            let edges = with_ratio(r);
+            assert_eq!(edges.len(), 1, "{r}");
+            assert_eq!(edges[0].name, STRIBECK_RATIO_NAME);
+            assert_eq!(edges[0].range, STRIBECK_RATIO_REACH);
+        }
+        assert_eq!(STRIBECK_RATIO_REACH, (-0.7, 0.7));
     }
 
     /// The shape parameter's vertex lies between the best grid point's neighbours, in ln, and
