@@ -128,8 +128,12 @@ fn generate(path: &str) -> Result<String, String> {
                 ),
                 other => return Err(format!("[effects.{other}] is not an effect the firmware knows")),
             };
-            if matches!(name.as_str(), "position_dependence" | "load_dependence") && f.get("cosine_n").is_some() {
-                return Err(format!("[effects.{name}] cosine terms are not carried to the firmware yet"));
+            if matches!(name.as_str(), "position_dependence" | "load_dependence")
+                && f.get("cosine_n").is_some()
+            {
+                return Err(format!(
+                    "[effects.{name}] cosine terms are not carried to the firmware yet"
+                ));
             }
             writeln!(effects, "        {code}").ok();
         }
