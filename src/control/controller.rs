@@ -839,10 +839,11 @@ impl Controller {
         let c = self.config;
         let est = self.estimator;
         let y = measured_force - c.mass_kg * est.acceleration;
-        let vs = self.model.params.stribeck_velocity();
+        // the model's own decay: its shape, and the direction's vs under asymmetry
+        let decay = self.model.stribeck_decay(est.velocity);
         if !self
             .refiner
-            .update(&c.refine, y, est.velocity, est.acceleration, vs)
+            .update(&c.refine, y, est.velocity, est.acceleration, decay)
         {
             return true;
         }

@@ -2,11 +2,13 @@
 //! the part of the steady friction that is linear in the parameters, with `vs` fixed:
 //!
 //! ```text
-//! F_fric = Fc d + (Fs - Fc) exp(-(v/vs)^2) d + sigma2 v = phi' theta,   d = sign(v)
-//! phi = [d, exp(-(v/vs)^2) d, v],   theta = [Fc, Fs - Fc, sigma2]
+//! F_fric = Fc d + (Fs - Fc) s(v) d + sigma2 v = phi' theta,   d = sign(v)
+//! phi = [d, s(v) d, v],   theta = [Fc, Fs - Fc, sigma2]
 //! K = P phi / (lambda + phi' P phi),  theta += K (y - phi' theta),  P = (P - K phi' P) / lambda
 //! ```
 //!
+//! `s(v)` is the model's own Stribeck decay ([`crate::friction::FrictionModel::stribeck_decay`]:
+//! `exp(-(v/vs)^2)`, or its shape's exponent, with the direction's `vs` under asymmetry).
 //! `y` is the friction the axis felt, `F_measured - M a`. Both `y` and `phi` pass through the
 //! same first-order low-pass (the acceleration estimate is noisy). Updates happen only when the
 //! motion excites the parameters: clear sliding (`|v| > v_min`, default 15 mm/s = 3 vs of
@@ -18,7 +20,6 @@
 //! stay as identified: they act only in microsecond bristle transients that 1 kHz data cannot
 //! resolve, so adapting them online would chase noise.
 
-use crate::math;
 use nalgebra::{Matrix2, Vector2};
 
 /// Refinement settings.
@@ -96,12 +97,19 @@ impl Refiner {
         *self = Self::new(self.nominal);
     }
 
-    /// One sample: measured friction `y` \[N\], velocity [m/s], acceleration [m/s^2], `vs` [m/s].
-    /// Returns true if the estimate was updated.
-    pub fn update(&mut self, c: &RefineConfig, y: f32, v: f32, a: f32, vs: f32) -> bool {
+    /// One sample: measured friction `y` \[N\], velocity [m/s], acceleration [m/s^2], and the
+    /// model's Stribeck decay at that velocity, `s(v)` in [0, 1]. Returns true if the
+    /// estimate was updated.
+    pub fn update(
+        &mut self,
+        c: &RefineConfig,
+        y: f32,
+        v: f32,
+        a: f32,
+        stribeck_decay: f32,
+    ) -> bool {
         let d = if v >= 0.0 { 1.0 } else { -1.0 };
-        let r = v / vs;
-        let phi = Vector2::new(d * (1.0 + self.rho * math::decay(r * r)), v);
+        let phi = Vector2::new(d * (1.0 + self.rho * stribeck_decay), v);
         let s = c.smoothing;
         self.y_f += s * (y - self.y_f);
         self.phi_f += (phi - self.phi_f) * s;

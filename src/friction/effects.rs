@@ -119,6 +119,15 @@ impl<T: Float> LoadDependence<T> {
         )
     }
 
+    /// The scales at pressure sum `p` of a model whose static level is `Fs` \[N\] (> 0): the
+    /// Coulomb level's `L = max(1 + dF(p) / Fs, 0)` and the Stribeck hump's `1 + beta (L - 1)`.
+    /// The static level, not the Coulomb one, is the reference: a fit whose Coulomb level sits
+    /// at zero, its friction all in the hump, would make the scale singular.
+    pub fn scales(&self, pressure_sum: T, static_force: T) -> (T, T) {
+        let scale = (T::one() + self.shift(pressure_sum) / static_force).max(T::zero());
+        (scale, T::one() + self.static_share * (scale - T::one()))
+    }
+
     /// The shift of Fc and Fs, `dF(p)` \[N\].
     pub fn shift(&self, pressure_sum: T) -> T {
         let mut d = self.coefficient * self.basis(pressure_sum);

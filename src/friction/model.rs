@@ -124,16 +124,11 @@ impl<T: ModelFloat> FrictionModel<T> {
     fn condition_factors(&self, c: &Conditions<T>, dwell_time: T) -> ConditionFactors<T> {
         let e = &self.effects;
         ConditionFactors {
-            // the seal's normal force grows with the pressure and both levels scale with it:
-            // `k` is the static level's slope, the Coulomb level follows in proportion (the
-            // static level, not the Coulomb one, as the reference: a fit whose Coulomb level
-            // sits at zero, its friction all in the hump, would make the scale singular; Fs > 0
-            // is a LugreParams invariant)
-            load_scale: e.load_dependence.map(|l| {
-                let scale = (T::one() + l.shift(c.pressure_sum) / self.params.static_force())
-                    .max(T::zero());
-                (scale, T::one() + l.static_share * (scale - T::one()))
-            }),
+            // the seal's normal force grows with the pressure and the levels scale with it
+            // (Fs > 0 is a LugreParams invariant)
+            load_scale: e
+                .load_dependence
+                .map(|l| l.scales(c.pressure_sum, self.params.static_force())),
             position_shift: e
                 .position_dependence
                 .map_or(T::zero(), |x| x.shift(c.position)),

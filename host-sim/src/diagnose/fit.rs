@@ -743,13 +743,13 @@ fn linearise<'p>(
                 .position_dependence
                 .filter(|x| x.terms > 0)
                 .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
-            // the load scales both levels by the seal's normal force, `1 + dF(p) / Fs`,
-            // `dF = k b(p) + sum c_j q_j(p)` (FrictionModel::levels; Fs > 0 is a LugreParams
-            // invariant); the position shift is added after it
-            let load_scale = e.load_dependence.map_or(1.0, |l| {
-                let series: f64 = l.cosine.iter().zip(&load_basis).map(|(c, q)| c * q).sum();
-                (1.0 + (l.coefficient * load_x + series) / fs).max(0.0)
-            });
+            // the load scales the Coulomb level by the seal's normal force, `L = 1 + dF(p) / Fs`
+            // with `dF = k b(p) + sum c_j q_j(p)`, and the hump by `1 + beta (L - 1)` (the
+            // core's own `LoadDependence::scales`, as FrictionModel::levels); the position
+            // shift is added after it
+            let (load_scale, hump_scale) = e
+                .load_dependence
+                .map_or((1.0, 1.0), |l| l.scales(c.pressure_sum, fs));
             let shift = e
                 .position_dependence
                 .map_or(0.0, |x| x.shift_from(c.position, &pos_basis));
@@ -774,7 +774,6 @@ fn linearise<'p>(
             // (FrictionModel::levels): g = L Fc_a + e H B, H = Fs_a - Fc_a the direction's hump
             let (fc_a, hump_a) = (fc * up_c, fs * up_s - fc * up_c);
             let beta = e.load_dependence.map_or(1.0, |l| l.static_share);
-            let hump_scale = 1.0 + beta * (load_scale - 1.0);
             let level = load_scale * fc_a + ex * hump_a * hump_scale;
             // d(load_scale)/d(Fs) = -k b / Fs^2 (k held; zero without the effect), and
             // Fs = Fc + hump moves with both

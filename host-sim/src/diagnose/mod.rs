@@ -57,6 +57,10 @@ pub struct EffectInfo {
     /// by the information criterion (`grid_objective`) and is at the edge of its search only
     /// at the top (none is a model the data chose).
     pub orders_first: Option<usize>,
+    /// A parameter only a stage's search moves, not the candidates' ranking (see
+    /// [`Search::stribeck_ratio`]): its name and the range the search reaches. Reported as
+    /// searched, and at the edge where it ends at an end of that range.
+    pub stage_searched: Option<(&'static str, (f64, f64))>,
 }
 
 /// The eight candidate effects.
@@ -68,6 +72,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         nonlinear: None,
         shape: None,
         orders_first: None,
+        stage_searched: Some((STRIBECK_RATIO_NAME, STRIBECK_RATIO_REACH)),
     },
     EffectInfo {
         kind: EffectKind::Offset,
@@ -76,6 +81,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         nonlinear: None,
         shape: None,
         orders_first: None,
+        stage_searched: None,
     },
     EffectInfo {
         kind: EffectKind::LoadDependence,
@@ -87,6 +93,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         nonlinear: Some(("terms", &[0.0, 1.0, 2.0, 3.0, 4.0], None)),
         shape: None,
         orders_first: Some(5),
+        stage_searched: None,
     },
     EffectInfo {
         kind: EffectKind::PositionDependence,
@@ -102,6 +109,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         // 5..8 only when 4 is the best of 0..4: tried on every record, the higher orders cost
         // an offset record 0.25 s of its 5 s budget
         orders_first: Some(5),
+        stage_searched: None,
     },
     EffectInfo {
         kind: EffectKind::TemperatureDependence,
@@ -114,6 +122,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         )),
         shape: None,
         orders_first: None,
+        stage_searched: None,
     },
     EffectInfo {
         kind: EffectKind::StribeckShape,
@@ -126,6 +135,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         )),
         shape: None,
         orders_first: None,
+        stage_searched: None,
     },
     EffectInfo {
         kind: EffectKind::ViscousPower,
@@ -141,6 +151,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         )),
         shape: None,
         orders_first: None,
+        stage_searched: None,
     },
     EffectInfo {
         kind: EffectKind::DwellStiction,
@@ -149,6 +160,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         nonlinear: Some(("time_constant_s", &[0.1, 0.2, 0.5, 1.0, 2.0, 5.0], None)),
         shape: Some(("renewal_distance_m", &fit::DWELL_RENEWAL_GRID_M)),
         orders_first: None,
+        stage_searched: None,
     },
 ];
 
@@ -2233,30 +2245,38 @@ pub fn effect_search_edges(m: &AxisModel) -> Vec<SearchEdge> {
         let nonlinear = (info.nonlinear.zip(nonlinear_value(m, info.kind)))
             .map(|((name, grid, _), v)| (name, grid, v, effect_on_edge(info, grid, v)));
         let shape = (info.shape.zip(fit::shape_value(m, info.kind)))
-            .map(|((name, grid), v)| (name, grid, v, on_edge(grid, v)));
-        out.extend(nonlinear.into_iter().chain(shape).filter(|q| q.3).map(
-            |(name, grid, value, _)| SearchEdge {
-                effect: info.kind,
-                name,
-                value,
-                range: ends(grid),
-            },
-        ));
-    }
-    // the asymmetry's Stribeck velocity ratio, searched by a stage
-    if let Some(a) = m.friction.effects.asymmetry {
-        let range = STRIBECK_RATIO_REACH;
-        let v = a.stribeck_velocity_ratio;
-        if v != 0.0 && (v <= range.0 || v >= range.1) {
-            out.push(SearchEdge {
-                effect: EffectKind::Asymmetry,
-                name: STRIBECK_RATIO_NAME,
-                value: v,
-                range,
-            });
-        }
+            .map(|((name, grid), v)| (name, ends(grid), v, on_edge(grid, v)));
+        let staged = (info.stage_searched.zip(stage_searched_value(m, info.kind)))
+            .map(|((name, (lo, hi)), v)| (name, (lo, hi), v, v <= lo || v >= hi));
+        let nonlinear = nonlinear.map(|(name, grid, v, edge)| (name, ends(grid), v, edge));
+        out.extend(
+            nonlinear
+                .into_iter()
+                .chain(shape)
+                .chain(staged)
+                .filter(|q| q.3)
+                .map(|(name, range, value, _)| SearchEdge {
+                    effect: info.kind,
+                    name,
+                    value,
+                    range,
+                }),
+        );
     }
     out
+}
+
+/// The parameter of an effect in a model that only a stage searches
+/// ([`EffectInfo::stage_searched`]).
+fn stage_searched_value(m: &AxisModel, effect: EffectKind) -> Option<f64> {
+    match effect {
+        EffectKind::Asymmetry => m
+            .friction
+            .effects
+            .asymmetry
+            .map(|a| a.stribeck_velocity_ratio),
+        _ => None,
+    }
 }
 
 /// The nonlinear parameter of an effect in a model.

@@ -464,7 +464,7 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
                     let info = super::effect_info(k);
                     info.nonlinear.is_some_and(|(n, _, _)| n == key)
                         || info.shape.is_some_and(|(n, _)| n == key)
-                        || (k == super::EffectKind::Asymmetry && key == super::STRIBECK_RATIO_NAME)
+                        || info.stage_searched.is_some_and(|(n, _)| n == key)
                 }
                 None => section == "lugre" && estimate.is_none(),
             };
