@@ -75,6 +75,14 @@ const COSINE_LABELS: [&str; fx::POSITION_TERMS] = [
     "cosine_6_n",
     "cosine_7_n",
     "cosine_8_n",
+    "cosine_9_n",
+    "cosine_10_n",
+    "cosine_11_n",
+    "cosine_12_n",
+    "cosine_13_n",
+    "cosine_14_n",
+    "cosine_15_n",
+    "cosine_16_n",
 ];
 
 impl Param {
@@ -1168,9 +1176,12 @@ pub fn grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     grid_min_extending(grid, grid.len(), f)
 }
 
-/// [`grid_min`] over the first `first` points of `grid`, extended to the rest of it only when
-/// the best of those is the last (a model order whose higher values are tried only when the
-/// lower ones keep improving).
+/// How many grid points [`grid_min_extending`] adds at a time.
+const EXTEND_BY: usize = 4;
+
+/// [`grid_min`] over the first `first` points of `grid`, extended by [`EXTEND_BY`] points at a
+/// time only while the best so far is the last (a model order whose higher values are tried
+/// only when the lower ones keep improving).
 pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     grid: &[f64],
     first: usize,
@@ -1199,8 +1210,11 @@ pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
         slot.iter().map(|&s| vals[s].clone()).collect::<Vec<_>>()
     };
     let mut vals = eval(&grid[..first.max(1).min(grid.len())]);
-    if vals.len() < grid.len() && argmin(&vals) + 1 == vals.len() {
-        vals.extend(eval(&grid[vals.len()..]));
+    // four points more at a time, while the last is the best: a model order's high terms
+    // cost a record that does not want them nothing
+    while vals.len() < grid.len() && argmin(&vals) + 1 == vals.len() {
+        let next = (vals.len() + EXTEND_BY).min(grid.len());
+        vals.extend(eval(&grid[vals.len()..next]));
     }
     let grid = &grid[..vals.len()];
     let mut profile: Vec<(f64, f64)> = grid.iter().zip(&vals).map(|(x, (c, _))| (*x, *c)).collect();
