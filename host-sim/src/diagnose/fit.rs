@@ -1416,23 +1416,32 @@ mod grid_tests {
     use super::*;
     use std::sync::atomic::{AtomicUsize, Ordering};
 
-    /// The grid grows past its first points only while its best point is the last one tried
-    /// (each search then adds one evaluation at its parabola's vertex).
+    /// The grid grows past its first points, four at a time, only while its best point is the
+    /// last one tried (each search then adds one evaluation at its parabola's vertex, unless
+    /// the best is the grid's last point).
     #[test]
     fn an_extending_grid_grows_only_while_its_edge_is_best() {
-        let grid: Vec<f64> = (0..=8).map(f64::from).collect();
-        for (minimum, tried) in [(2.0, 5), (6.0, 9), (4.0, 9)] {
+        let grid: Vec<f64> = (0..=16).map(f64::from).collect();
+        for (minimum, tried, vertex) in [
+            (2.0, 5, 1),
+            (6.0, 9, 1),
+            (4.0, 9, 1),
+            (8.0, 13, 1),
+            (11.0, 13, 1),
+            (15.0, 17, 1),
+            (16.0, 17, 0),
+        ] {
             let calls = AtomicUsize::new(0);
             let (x, _, _) = grid_min_extending(&grid, 5, |x| {
                 calls.fetch_add(1, Ordering::Relaxed);
                 ((x - minimum).powi(2), ())
             });
-            assert_eq!(calls.into_inner(), tried + 1, "minimum {minimum}");
+            assert_eq!(calls.into_inner(), tried + vertex, "minimum {minimum}");
             assert!((x - minimum).abs() < 1e-9, "minimum {minimum}: {x}");
         }
         // the whole grid at once: as grid_min
         let (x, _, profile) = grid_min_extending(&grid, grid.len(), |x| ((x - 7.3).powi(2), ()));
-        assert_eq!(profile.len(), 10);
+        assert_eq!(profile.len(), 18);
         assert!((x - 7.3).abs() < 1e-9);
     }
 
