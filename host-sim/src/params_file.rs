@@ -122,7 +122,7 @@ mod tables {
         /// half the stroke the cosine terms span (absent: no cosine terms)
         #[serde(default, skip_serializing_if = "Option::is_none")]
         pub half_span_m: Option<f64>,
-        /// the cosine terms c_1.. \[N\] (at most `POSITION_TERMS`, 8)
+        /// the cosine terms c_1.. \[N\] (at most `POSITION_TERMS`, 16)
         #[serde(default, skip_serializing_if = "Vec::is_empty")]
         pub cosine_n: Vec<f64>,
     }

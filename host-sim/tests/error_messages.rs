@@ -101,9 +101,9 @@ fn parameter_file_messages() {
     );
     assert_eq!(
         read(&format!(
-            "{GOOD}[effects.position_dependence]\ngradient_n_per_m = 1\ncenter_m = 0\ncosine_n = [1, 2, 3, 4, 5, 6, 7, 8, 9]\nhalf_span_m = 0.1\n"
+            "{GOOD}[effects.position_dependence]\ngradient_n_per_m = 1\ncenter_m = 0\ncosine_n = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17]\nhalf_span_m = 0.1\n"
         )),
-        "DIR/p.toml: [effects.position_dependence] cosine_n: at most 8 terms, got 9"
+        "DIR/p.toml: [effects.position_dependence] cosine_n: at most 16 terms, got 17"
     );
     assert_eq!(
         read(&format!(

@@ -164,10 +164,11 @@ fn cosine_series<T: Float, const N: usize>(s: T, centre: T, half_span: T, terms:
     out
 }
 
-/// Most cosine terms a position dependence carries: eight half-waves over the span resolve a
-/// wear spot or a ripple down to about a tenth of the stroke (four left a 5 cm spot on a 30 cm
-/// stroke at 1.7x the noise floor).
-pub const POSITION_TERMS: usize = 8;
+/// Most cosine terms a position dependence carries: sixteen half-waves over the span resolve a
+/// wear spot or a ripple down to about a twentieth of the stroke (four left a 5 cm spot on a
+/// 30 cm stroke at 1.7x the noise floor; eight left spots 4..7 cm wide on 34..47 cm strokes at
+/// 1.4..1.6x, every one at the eighth term).
+pub const POSITION_TERMS: usize = 16;
 
 /// Friction that varies along the stroke: a gradient plus a smooth shape,
 ///

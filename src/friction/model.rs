@@ -768,12 +768,14 @@ mod tests {
         let mut m = base();
         let mut pd = PositionDependence::linear(0.0, 0.2);
         pd.half_span = 0.1;
-        let c = [20.0, -10.0, 5.0, 7.0, -3.0, 2.0, 1.5, -4.0];
+        let c = [
+            20.0, -10.0, 5.0, 7.0, -3.0, 2.0, 1.5, -4.0, 3.0, -2.5, 1.0, 0.5, -1.5, 2.5, -0.5, 6.0,
+        ];
         pd.cosine = c;
-        // the eighth term is ignored: the basis carries the terms in use only
-        pd.terms = 7;
-        assert_eq!(pd.basis(0.13)[7], 0.0);
-        assert!((pd.basis(0.13)[6] - (7.0 * core::f64::consts::PI * 0.15).cos()).abs() < 1e-12);
+        // the sixteenth term is ignored: the basis carries the terms in use only
+        pd.terms = 15;
+        assert_eq!(pd.basis(0.13)[15], 0.0);
+        assert!((pd.basis(0.13)[14] - (15.0 * core::f64::consts::PI * 0.15).cos()).abs() < 1e-12);
         m.effects.position_dependence = Some(pd);
         let at = |x| {
             m.levels(0.01, &Conditions { position: x, ..REF }, 0.0)
@@ -783,7 +785,7 @@ mod tests {
             let u: f64 = (x - 0.2) / 0.2 + 0.5;
             let pi = core::f64::consts::PI;
             let expect = 506.0
-                + (1..=7)
+                + (1..=15)
                     .map(|j| c[j - 1] * (j as f64 * pi * u).cos())
                     .sum::<f64>();
             assert!(

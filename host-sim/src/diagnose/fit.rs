@@ -75,6 +75,14 @@ const COSINE_LABELS: [&str; fx::POSITION_TERMS] = [
     "cosine_6_n",
     "cosine_7_n",
     "cosine_8_n",
+    "cosine_9_n",
+    "cosine_10_n",
+    "cosine_11_n",
+    "cosine_12_n",
+    "cosine_13_n",
+    "cosine_14_n",
+    "cosine_15_n",
+    "cosine_16_n",
 ];
 
 impl Param {
@@ -1168,9 +1176,12 @@ pub fn grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     grid_min_extending(grid, grid.len(), f)
 }
 
-/// [`grid_min`] over the first `first` points of `grid`, extended to the rest of it only when
-/// the best of those is the last (a model order whose higher values are tried only when the
-/// lower ones keep improving).
+/// How many grid points [`grid_min_extending`] adds at a time.
+const EXTEND_BY: usize = 4;
+
+/// [`grid_min`] over the first `first` points of `grid`, extended by [`EXTEND_BY`] points at a
+/// time only while the best so far is the last (a model order whose higher values are tried
+/// only when the lower ones keep improving).
 pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     grid: &[f64],
     first: usize,
@@ -1199,8 +1210,11 @@ pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
         slot.iter().map(|&s| vals[s].clone()).collect::<Vec<_>>()
     };
     let mut vals = eval(&grid[..first.max(1).min(grid.len())]);
-    if vals.len() < grid.len() && argmin(&vals) + 1 == vals.len() {
-        vals.extend(eval(&grid[vals.len()..]));
+    // four points more at a time, while the last is the best: a model order's high terms
+    // cost a record that does not want them nothing
+    while vals.len() < grid.len() && argmin(&vals) + 1 == vals.len() {
+        let next = (vals.len() + EXTEND_BY).min(grid.len());
+        vals.extend(eval(&grid[vals.len()..next]));
     }
     let grid = &grid[..vals.len()];
     let mut profile: Vec<(f64, f64)> = grid.iter().zip(&vals).map(|(x, (c, _))| (*x, *c)).collect();
@@ -1402,23 +1416,32 @@ mod grid_tests {
     use super::*;
     use std::sync::atomic::{AtomicUsize, Ordering};
 
-    /// The grid grows past its first points only while its best point is the last one tried
-    /// (each search then adds one evaluation at its parabola's vertex).
+    /// The grid grows past its first points, four at a time, only while its best point is the
+    /// last one tried (each search then adds one evaluation at its parabola's vertex, unless
+    /// the best is the grid's last point).
     #[test]
     fn an_extending_grid_grows_only_while_its_edge_is_best() {
-        let grid: Vec<f64> = (0..=8).map(f64::from).collect();
-        for (minimum, tried) in [(2.0, 5), (6.0, 9), (4.0, 9)] {
+        let grid: Vec<f64> = (0..=16).map(f64::from).collect();
+        for (minimum, tried, vertex) in [
+            (2.0, 5, 1),
+            (6.0, 9, 1),
+            (4.0, 9, 1),
+            (8.0, 13, 1),
+            (11.0, 13, 1),
+            (15.0, 17, 1),
+            (16.0, 17, 0),
+        ] {
             let calls = AtomicUsize::new(0);
             let (x, _, _) = grid_min_extending(&grid, 5, |x| {
                 calls.fetch_add(1, Ordering::Relaxed);
                 ((x - minimum).powi(2), ())
             });
-            assert_eq!(calls.into_inner(), tried + 1, "minimum {minimum}");
+            assert_eq!(calls.into_inner(), tried + vertex, "minimum {minimum}");
             assert!((x - minimum).abs() < 1e-9, "minimum {minimum}: {x}");
         }
         // the whole grid at once: as grid_min
         let (x, _, profile) = grid_min_extending(&grid, grid.len(), |x| ((x - 7.3).powi(2), ()));
-        assert_eq!(profile.len(), 10);
+        assert_eq!(profile.len(), 18);
         assert!((x - 7.3).abs() < 1e-9);
     }
 
