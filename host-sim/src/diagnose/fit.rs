@@ -1179,7 +1179,7 @@ pub fn grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
 /// How many grid points [`grid_min_extending`] adds at a time.
 const EXTEND_BY: usize = 4;
 
-/// [`grid_min`] over the first `first` points of `grid`, extended by [`EXTEND_BY`] points at a
+/// [`grid_min`] over the first `first` points of `grid`, extended by `EXTEND_BY` points at a
 /// time only while the best so far is the last (a model order whose higher values are tried
 /// only when the lower ones keep improving).
 pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
