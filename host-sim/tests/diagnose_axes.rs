@@ -439,20 +439,7 @@ fn a_periodic_position_dependence_is_found_and_its_shape_kept() {
 /// against the floor's 1.23 %.
 #[test]
 fn a_narrow_wear_spot_is_followed_to_the_noise_floor() {
-    let (d, axis) = diagnose(Some("position_dependence"), 1300, &["position_dependence"]);
-    let floor = truth_error_pct(&axis, &d.prepared);
-    let added = d.stages[1].fit.rel_err_pct;
-    let pd = d.model().friction.effects.position_dependence.unwrap();
-    println!(
-        "{}; added {added:.2} %, floor {floor:.2} %, {} terms",
-        report(&d),
-        pd.terms
-    );
-    assert!(pd.terms > 4, "{} terms", pd.terms);
-    assert!(
-        added <= 1.2 * floor,
-        "{added:.2} % against the floor's {floor:.2} %"
-    );
+    spot_followed_past(1300, 4);
 }
 
 /// A wear spot narrower than eight half-waves of the stroke can draw (never-run seed 20305,
@@ -461,7 +448,13 @@ fn a_narrow_wear_spot_is_followed_to_the_noise_floor() {
 /// eight terms it stayed at 0.70 % against the floor's 0.44 % (1.6x), its order at the edge.
 #[test]
 fn a_wear_spot_narrower_than_eight_half_waves_gets_more_terms() {
-    let (d, axis) = diagnose(Some("position_dependence"), 20305, &["position_dependence"]);
+    spot_followed_past(20305, 8);
+}
+
+/// The position record of `seed` with its dependence added: more than `terms` cosine terms,
+/// and the error within 1.2x the noise floor.
+fn spot_followed_past(seed: u64, terms: usize) {
+    let (d, axis) = diagnose(Some("position_dependence"), seed, &["position_dependence"]);
     let floor = truth_error_pct(&axis, &d.prepared);
     let added = d.stages[1].fit.rel_err_pct;
     let pd = d.model().friction.effects.position_dependence.unwrap();
@@ -470,7 +463,7 @@ fn a_wear_spot_narrower_than_eight_half_waves_gets_more_terms() {
         report(&d),
         pd.terms
     );
-    assert!(pd.terms > 8, "{} terms", pd.terms);
+    assert!(pd.terms > terms, "{} terms", pd.terms);
     assert!(
         added <= 1.2 * floor,
         "{added:.2} % against the floor's {floor:.2} %"

@@ -2931,8 +2931,9 @@ mod search_edge_tests {
         let edges = effect_search_edges(&viscous_and_dwell(1.15, 0.5, 1e-5));
         assert_eq!(edges.len(), 1, "{edges:?}");
         assert_eq!(edges[0].name, "renewal_distance_m");
-        // no terms is a model the data chose; all of them is an edge
-        for (terms, flagged) in [(0usize, false), (8, true)] {
+        // no terms is a model the data chose, and so is eight (the top until session 47);
+        // all of them is an edge
+        for (terms, flagged) in [(0usize, false), (8, false), (16, true)] {
             let mut pd = fx::PositionDependence::linear(0.0, 0.0);
             pd.terms = terms;
             let e = fx::Effects {
