@@ -590,7 +590,7 @@ impl Controller {
         // 3. compensate
         let measured_force = self.compensate(m, r, &mut out);
         // 4. cascade
-        let c = self.config;
+        let c = &self.config;
         let est = self.estimator;
         let co = self.cascade.update(
             &c.cascade,
@@ -612,12 +612,12 @@ impl Controller {
         }
         out.valve_command = co.command;
         // 6. health: the friction the force balance shows against the identified model
-        if self.health.sample_due(&c.health) {
+        if self.health.sample_due(&self.config.health) {
             self.monitor_health(m, r, measured_force);
         }
         out.health_warning = self.health.warning();
         // 7. refinement, after the output: it adapts the model the next period uses
-        if c.features.refinement && self.ramp.is_none() && !self.refine(measured_force) {
+        if self.config.features.refinement && self.ramp.is_none() && !self.refine(measured_force) {
             out.faults.insert(Faults::REFINEMENT_RESET);
         }
         out
@@ -684,7 +684,7 @@ impl Controller {
     /// The friction compensation \[N\] into `out` (with its parts), by the enabled features;
     /// returns the actuator force measured from the chamber pressures \[N\].
     fn compensate(&mut self, m: &Measurements, r: &Reference, out: &mut Output) -> f32 {
-        let c = self.config;
+        let c = &self.config;
         let h = c.period_s;
         let est = self.estimator;
         let measured_force =
@@ -836,7 +836,7 @@ impl Controller {
     /// Online refinement of Fc, Fs - Fc and sigma2 from the measured friction; false when it
     /// diverged and was reset to the identified parameters.
     fn refine(&mut self, measured_force: f32) -> bool {
-        let c = self.config;
+        let c = &self.config;
         let est = self.estimator;
         let y = measured_force - c.mass_kg * est.acceleration;
         // the model's own decay: its shape, and the direction's vs under asymmetry

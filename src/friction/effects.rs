@@ -119,23 +119,31 @@ impl<T: Float> LoadDependence<T> {
         )
     }
 
-    /// The scales at pressure sum `p` of a model whose static level is `Fs` \[N\] (> 0): the
-    /// Coulomb level's `L = max(1 + dF(p) / Fs, 0)` and the Stribeck hump's `1 + beta (L - 1)`.
-    /// The static level, not the Coulomb one, is the reference: a fit whose Coulomb level sits
-    /// at zero, its friction all in the hump, would make the scale singular.
-    pub fn scales(&self, pressure_sum: T, static_force: T) -> (T, T) {
-        let scale = (T::one() + self.shift(pressure_sum) / static_force).max(T::zero());
+    /// The scales for a level shift `dF` \[N\] ([`Self::shift`]) of a model whose static level
+    /// is `Fs` \[N\] (> 0): the Coulomb level's `L = max(1 + dF / Fs, 0)` and the Stribeck
+    /// hump's `1 + beta (L - 1)`. The static level, not the Coulomb one, is the reference: a
+    /// fit whose Coulomb level sits at zero, its friction all in the hump, would make the
+    /// scale singular.
+    pub fn scales(&self, shift: T, static_force: T) -> (T, T) {
+        let scale = (T::one() + shift / static_force).max(T::zero());
         (scale, T::one() + self.static_share * (scale - T::one()))
     }
 
     /// The shift of Fc and Fs, `dF(p)` \[N\].
     pub fn shift(&self, pressure_sum: T) -> T {
-        let mut d = self.coefficient * self.basis(pressure_sum);
-        if self.terms > 0 {
-            let q = self.cosine_basis(pressure_sum);
-            for (c, q) in self.cosine.iter().zip(q.iter()).take(self.terms) {
-                d = d + *c * *q;
-            }
+        if self.terms == 0 {
+            return self.coefficient * self.basis(pressure_sum);
+        }
+        self.shift_from(self.basis(pressure_sum), &self.cosine_basis(pressure_sum))
+    }
+
+    /// The shift `dF(p)` \[N\] from an already evaluated [`Self::basis`] and
+    /// [`Self::cosine_basis`] at `p` (a fit that needs them for its regressors evaluates
+    /// them once).
+    pub fn shift_from(&self, basis: T, cosine_basis: &[T; LOAD_TERMS]) -> T {
+        let mut d = self.coefficient * basis;
+        for (c, q) in self.cosine.iter().zip(cosine_basis.iter()).take(self.terms) {
+            d = d + *c * *q;
         }
         d
     }

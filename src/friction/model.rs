@@ -128,7 +128,7 @@ impl<T: ModelFloat> FrictionModel<T> {
             // (Fs > 0 is a LugreParams invariant)
             load_scale: e
                 .load_dependence
-                .map(|l| l.scales(c.pressure_sum, self.params.static_force())),
+                .map(|l| l.scales(l.shift(c.pressure_sum), self.params.static_force())),
             position_shift: e
                 .position_dependence
                 .map_or(T::zero(), |x| x.shift(c.position)),

@@ -753,11 +753,11 @@ fn linearise<'p>(
                 .map_or([0.0; fx::POSITION_TERMS], |x| x.basis(c.position));
             // the load scales the Coulomb level by the seal's normal force, `L = 1 + dF(p) / Fs`
             // with `dF = k b(p) + sum c_j q_j(p)`, and the hump by `1 + beta (L - 1)` (the
-            // core's own `LoadDependence::scales`, as FrictionModel::levels); the position
-            // shift is added after it
-            let (load_scale, hump_scale) = e
-                .load_dependence
-                .map_or((1.0, 1.0), |l| l.scales(c.pressure_sum, fs));
+            // core's own `LoadDependence::scales`, as FrictionModel::levels, from the bases
+            // evaluated above); the position shift is added after it
+            let (load_scale, hump_scale) = e.load_dependence.map_or((1.0, 1.0), |l| {
+                l.scales(l.shift_from(load_x, &load_basis), fs)
+            });
             let shift = e
                 .position_dependence
                 .map_or(0.0, |x| x.shift_from(c.position, &pos_basis));
