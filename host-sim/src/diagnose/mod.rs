@@ -2247,12 +2247,11 @@ pub fn effect_search_edges(m: &AxisModel) -> Vec<SearchEdge> {
     for info in &EFFECTS {
         // (name, grid, value, at an edge) of the nonlinear parameter, then of the shape's
         let nonlinear = (info.nonlinear.zip(nonlinear_value(m, info.kind)))
-            .map(|((name, grid, _), v)| (name, grid, v, effect_on_edge(info, grid, v)));
+            .map(|((name, grid, _), v)| (name, ends(grid), v, effect_on_edge(info, grid, v)));
         let shape = (info.shape.zip(fit::shape_value(m, info.kind)))
             .map(|((name, grid), v)| (name, ends(grid), v, on_edge(grid, v)));
         let staged = (info.stage_searched.zip(stage_searched_value(m, info.kind)))
             .map(|((name, (lo, hi)), v)| (name, (lo, hi), v, v <= lo || v >= hi));
-        let nonlinear = nonlinear.map(|(name, grid, v, edge)| (name, ends(grid), v, edge));
         out.extend(
             nonlinear
                 .into_iter()
