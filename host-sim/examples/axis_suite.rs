@@ -123,6 +123,8 @@ struct Row {
     /// for an asymmetry record, the error of the generator's true model with its asymmetry
     /// replaced by the constant force that fits best (`offset_in_place_pct`); NaN otherwise [%]
     offset_in_place_pct: f64,
+    /// the parsimony check between nested effects, where it ran (`Candidate::nested_check`)
+    nested_check: Option<diagnose::NestedCheck>,
     /// every candidate of the baseline, ranked: (effect, dBIC, error with it [%], detected,
     /// the error cut the decision weighs, significant, the force it explains, rms [N])
     candidates: Vec<(String, f64, f64, bool, f64, bool, f64)>,
@@ -639,6 +641,7 @@ fn run(
         dwell: None,
         without_effect_pct: f64::NAN,
         offset_in_place_pct: f64::NAN,
+        nested_check: None,
         candidates: Vec::new(),
         force_noise_n: f64::NAN,
         force_noise_in_band_n: f64::NAN,
@@ -697,6 +700,7 @@ fn run(
         .map(|c| c.kind.to_string())
         .unwrap_or_default();
     row.first_dbic = cands.first().and_then(|c| c.delta_bic).unwrap_or(f64::NAN);
+    row.nested_check = cands.iter().find_map(|c| c.nested_check);
     row.first_significant = cands
         .iter()
         .find(|c| c.significant)

@@ -377,6 +377,10 @@ pub struct Candidate {
     /// `polish_again`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kept_over_larger: Option<NestedCheck>,
+    /// Where this candidate is the simpler effect of a nested pair and the parsimony check ran
+    /// on it: its numbers, whichever effect it kept.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nested_check: Option<NestedCheck>,
 }
 
 /// The parsimony check between nested effects (`prefer_nested`, `larger_on_top`) where it
@@ -396,6 +400,10 @@ pub struct NestedCheck {
     /// The error with the larger effect on top of it [%] (absent: it could not be tested).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub larger_on_top_rel_err_pct: Option<f64>,
+    /// The larger effect's evidence on top of it (dBIC, sliding and peaks; absent: it could
+    /// not be tested).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub larger_on_top_dbic: Option<f64>,
 }
 
 impl NestedCheck {
@@ -412,6 +420,7 @@ impl NestedCheck {
             kept,
             kept_rel_err_pct: with_kept.rel_err_pct,
             larger_on_top_rel_err_pct: on_top.and_then(|c| c.rel_err_pct),
+            larger_on_top_dbic: on_top.and_then(|c| c.delta_bic),
         }
     }
 
@@ -1548,6 +1557,12 @@ fn prefer_nested(
         }
         let with_nested = stage_fit(nested, simpler, p, fixed_mass, n_eff);
         let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
+        out[j].nested_check = Some(NestedCheck::new(
+            larger,
+            nested,
+            &with_nested,
+            on_top.as_ref(),
+        ));
         if let Some(c) = on_top.filter(|c| !c.significant) {
             out[j].kept_over_larger =
                 Some(NestedCheck::new(larger, nested, &with_nested, Some(&c)));
@@ -1598,6 +1613,12 @@ fn larger_on_top(
     let with_nested = stage_fit(nested, simpler, p, fixed_mass, n_eff);
     let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
     let s = &mut out[first];
+    s.nested_check = Some(NestedCheck::new(
+        larger,
+        nested,
+        &with_nested,
+        on_top.as_ref(),
+    ));
     match on_top {
         Some(c) if c.significant => {
             s.caution = Some(format!(
@@ -1878,6 +1899,7 @@ fn score(
         fitted_before_restart: false,
         settled_as_stage: false,
         kept_over_larger: None,
+        nested_check: None,
     };
     if cand.skipped.is_some() {
         return cand;
@@ -2131,6 +2153,7 @@ fn judge(
         fitted_before_restart: false,
         settled_as_stage: false,
         kept_over_larger: None,
+        nested_check: None,
     }
 }
 
@@ -2804,6 +2827,7 @@ mod tests {
             fitted_before_restart: false,
             settled_as_stage: false,
             kept_over_larger: None,
+            nested_check: None,
         }
     }
 
