@@ -378,7 +378,8 @@ pub struct Candidate {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kept_over_larger: Option<NestedCheck>,
     /// Where this candidate is the simpler effect of a nested pair and the parsimony check ran
-    /// on it: its numbers, whichever effect it kept.
+    /// on it: its numbers, whichever effect it kept (`kept_over_larger` is the same check
+    /// where it kept this one).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub nested_check: Option<NestedCheck>,
 }
@@ -392,7 +393,8 @@ pub struct NestedCheck {
     /// The larger effect, which contains the kept one (serialised by its name).
     #[serde(serialize_with = "effect_name")]
     pub larger: EffectKind,
-    /// The kept effect, whose candidate this is (serialised by its name).
+    /// The simpler effect, whose candidate this is, kept where the check kept it (serialised by
+    /// its name).
     #[serde(serialize_with = "effect_name")]
     pub kept: EffectKind,
     /// The error with the kept effect fitted as a stage [%] (the stage `--add` then adds).
@@ -1557,15 +1559,10 @@ fn prefer_nested(
         }
         let with_nested = stage_fit(nested, simpler, p, fixed_mass, n_eff);
         let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
-        out[j].nested_check = Some(NestedCheck::new(
-            larger,
-            nested,
-            &with_nested,
-            on_top.as_ref(),
-        ));
+        let check = NestedCheck::new(larger, nested, &with_nested, on_top.as_ref());
+        out[j].nested_check = Some(check);
         if let Some(c) = on_top.filter(|c| !c.significant) {
-            out[j].kept_over_larger =
-                Some(NestedCheck::new(larger, nested, &with_nested, Some(&c)));
+            out[j].kept_over_larger = Some(check);
             let why = format!(
                 "it contains {nested} as a special case, and with {nested} added ({:.2} %) it cuts the error by {:.0} % only{}: the simpler {nested} explains the record",
                 with_nested.rel_err_pct,
@@ -1613,12 +1610,8 @@ fn larger_on_top(
     let with_nested = stage_fit(nested, simpler, p, fixed_mass, n_eff);
     let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
     let s = &mut out[first];
-    s.nested_check = Some(NestedCheck::new(
-        larger,
-        nested,
-        &with_nested,
-        on_top.as_ref(),
-    ));
+    let check = NestedCheck::new(larger, nested, &with_nested, on_top.as_ref());
+    s.nested_check = Some(check);
     match on_top {
         Some(c) if c.significant => {
             s.caution = Some(format!(
@@ -1629,7 +1622,7 @@ fn larger_on_top(
             s.significant = false;
             s.detected = false;
         }
-        c => s.kept_over_larger = Some(NestedCheck::new(larger, nested, &with_nested, c.as_ref())),
+        _ => s.kept_over_larger = Some(check),
     }
     s.staged = Some(with_nested);
 }
