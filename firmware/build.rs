@@ -1,11 +1,16 @@
 //! Puts the workspace's memory.x (STM32F405RG) where cortex-m-rt's link.x finds it, and turns
 //! the parameter file the host tools write (`host-sim identify` / `diagnose --out-params`)
 //! into the firmware's friction model: `LUGRE_PARAMS=path/to/file.toml`, default
-//! `params.toml` here. The file is validated at build time with the core's own checks
-//! (`LugreParams::new`, `check_physical`, f64 -> f32 without loss of validity); a file a
-//! controller must not get fails the build, naming the field.
-use lugre_servo::friction::LugreParams;
-use std::{env, fmt::Write as _, fs, path::PathBuf};
+//! `params.toml` here. The file is read and validated at build time by the same reader the
+//! host tools use (the core's `params_file`: every section, every effect, the cosine terms of
+//! position and load dependence included), then checked again as f32; a file a controller must
+//! not get fails the build, naming the file and the field.
+use lugre_servo::friction::{effects as fx, Effects, FrictionModel};
+use lugre_servo::params_file::ParamFile;
+use std::{
+    env, fs,
+    path::{Path, PathBuf},
+};
 
 fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("OUT_DIR"));
@@ -21,130 +26,150 @@ fn main() {
     println!("cargo:rerun-if-changed={path}");
     match generate(&path) {
         Ok(code) => fs::write(out.join("params.rs"), code).expect("write params.rs"),
+        // the reader's errors name the file (and the line and column, or the section and key)
         Err(e) => {
-            eprintln!("error: {path}: {e}");
-            panic!("{path}: {e}");
+            eprintln!("error: {e}");
+            panic!("{e}");
         }
     }
 }
 
-fn number(t: &toml::Table, section: &str, key: &str) -> Result<f64, String> {
-    match t.get(key) {
-        Some(toml::Value::Float(f)) => Ok(*f),
-        Some(toml::Value::Integer(i)) => Ok(*i as f64),
-        Some(_) => Err(format!("[{section}] {key} must be a number")),
-        None => Err(format!("[{section}] {key} is missing")),
+/// An f32 as a Rust literal (`Debug` prints the shortest string that reads back exactly).
+fn lit(x: f32) -> String {
+    format!("{x:?}")
+}
+
+/// A fixed array of f32 literals.
+fn array(xs: &[f32]) -> String {
+    let items: Vec<String> = xs.iter().map(|x| lit(*x)).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// The effects as Rust field initialisers (`fx` is the core's `friction::effects`). Every
+/// struct is destructured without `..`: a field added to the core fails this build instead of
+/// being left at a default.
+fn effects_code(e: &Effects<f32>) -> String {
+    let Effects {
+        asymmetry,
+        offset,
+        load_dependence,
+        position_dependence,
+        temperature_dependence,
+        stribeck_shape,
+        viscous_power,
+        dwell_stiction,
+    } = *e;
+    let mut out = Vec::new();
+    if let Some(fx::Asymmetry {
+        coulomb_ratio,
+        static_ratio,
+        viscous_ratio,
+        stribeck_velocity_ratio,
+    }) = asymmetry
+    {
+        out.push(format!(
+            "asymmetry: Some(fx::Asymmetry {{ coulomb_ratio: {}, static_ratio: {}, viscous_ratio: {}, stribeck_velocity_ratio: {} }}),",
+            lit(coulomb_ratio), lit(static_ratio), lit(viscous_ratio), lit(stribeck_velocity_ratio)
+        ));
     }
+    if let Some(fx::Offset { force }) = offset {
+        out.push(format!(
+            "offset: Some(fx::Offset {{ force: {} }}),",
+            lit(force)
+        ));
+    }
+    if let Some(fx::LoadDependence {
+        coefficient,
+        reference_pressure_sum,
+        exponent,
+        half_span,
+        cosine,
+        terms,
+        static_share,
+    }) = load_dependence
+    {
+        out.push(format!(
+            "load_dependence: Some(fx::LoadDependence {{ coefficient: {}, reference_pressure_sum: {}, exponent: {}, half_span: {}, cosine: {}, terms: {terms}, static_share: {} }}),",
+            lit(coefficient), lit(reference_pressure_sum), lit(exponent), lit(half_span), array(&cosine), lit(static_share)
+        ));
+    }
+    if let Some(fx::PositionDependence {
+        gradient,
+        center,
+        half_span,
+        cosine,
+        terms,
+    }) = position_dependence
+    {
+        out.push(format!(
+            "position_dependence: Some(fx::PositionDependence {{ gradient: {}, center: {}, half_span: {}, cosine: {}, terms: {terms} }}),",
+            lit(gradient), lit(center), lit(half_span), array(&cosine)
+        ));
+    }
+    if let Some(fx::TemperatureDependence {
+        viscous_per_kelvin,
+        coulomb_per_kelvin,
+        reference_temperature,
+    }) = temperature_dependence
+    {
+        out.push(format!(
+            "temperature_dependence: Some(fx::TemperatureDependence {{ viscous_per_kelvin: {}, coulomb_per_kelvin: {}, reference_temperature: {} }}),",
+            lit(viscous_per_kelvin), lit(coulomb_per_kelvin), lit(reference_temperature)
+        ));
+    }
+    if let Some(fx::StribeckShape { exponent }) = stribeck_shape {
+        out.push(format!(
+            "stribeck_shape: Some(fx::StribeckShape {{ exponent: {} }}),",
+            lit(exponent)
+        ));
+    }
+    if let Some(fx::ViscousPower {
+        exponent,
+        reference_velocity,
+    }) = viscous_power
+    {
+        out.push(format!(
+            "viscous_power: Some(fx::ViscousPower {{ exponent: {}, reference_velocity: {} }}),",
+            lit(exponent),
+            lit(reference_velocity)
+        ));
+    }
+    if let Some(fx::DwellStiction {
+        max_increase,
+        time_constant,
+        stick_velocity,
+        renewal_distance,
+    }) = dwell_stiction
+    {
+        out.push(format!(
+            "dwell_stiction: Some(fx::DwellStiction {{ max_increase: {}, time_constant: {}, stick_velocity: {}, renewal_distance: {} }}),",
+            lit(max_increase), lit(time_constant), lit(stick_velocity), lit(renewal_distance)
+        ));
+    }
+    out.iter().map(|l| format!("            {l}\n")).collect()
 }
 
-fn table<'a>(root: &'a toml::Table, name: &str) -> Result<&'a toml::Table, String> {
-    root.get(name)
-        .and_then(toml::Value::as_table)
-        .ok_or_else(|| format!("[{name}] is missing"))
-}
-
-/// Rust code for the model and the mass.
+/// Rust code for the model and the mass: the file read and validated by the host's own reader
+/// (`ParamFile::read`: syntax with line and column, every section and effect checked), cast
+/// to f32 and checked again as a file of those f32 values would be (a value f32 cannot hold,
+/// or one that rounds out of its range, is refused the same way).
 fn generate(path: &str) -> Result<String, String> {
-    let text = fs::read_to_string(path).map_err(|e| format!("cannot read: {e}"))?;
-    let root: toml::Table = text.parse().map_err(|e| format!("{e}"))?;
-    let l = table(&root, "lugre")?;
-    let keys = [
-        "bristle_stiffness_n_per_m",
-        "bristle_damping_n_s_per_m",
-        "viscous_coefficient_n_s_per_m",
-        "coulomb_force_n",
-        "static_force_n",
-        "stribeck_velocity_m_per_s",
-    ];
-    let v: Vec<f64> = keys
-        .iter()
-        .map(|k| number(l, "lugre", k))
-        .collect::<Result<_, _>>()?;
-    let p =
-        LugreParams::new(v[0], v[1], v[2], v[3], v[4], v[5]).map_err(|e| format!("[lugre] {e}"))?;
-    p.check_physical().map_err(|e| format!("[lugre] {e}"))?;
-    let p32: LugreParams<f32> = p.cast().map_err(|e| format!("[lugre] as f32: {e}"))?;
-    p32.check_physical()
-        .map_err(|e| format!("[lugre] as f32: {e}"))?;
-    let mass = number(table(&root, "axis")?, "axis", "moving_mass_kg")?;
-    if !(mass.is_finite() && mass > 0.0) {
-        return Err("[axis] moving_mass_kg must be a finite number greater than zero".into());
-    }
-    // effects: the keys of the parameter file, as the core's fields
-    let mut effects = String::new();
-    if let Some(e) = root.get("effects").and_then(toml::Value::as_table) {
-        for (name, fields) in e {
-            let f = fields
-                .as_table()
-                .ok_or_else(|| format!("[effects.{name}] must be a table"))?;
-            let n = |k: &str| number(f, &format!("effects.{name}"), k);
-            let code = match name.as_str() {
-                "asymmetry" => format!(
-                    "asymmetry: Some(fx::Asymmetry {{ coulomb_ratio: {:?}, static_ratio: {:?}, viscous_ratio: {:?}, stribeck_velocity_ratio: {:?} }}),",
-                    n("coulomb_ratio")? as f32,
-                    // files written before the static ratio existed scale Fs with rc
-                    if f.contains_key("static_ratio") { n("static_ratio")? } else { n("coulomb_ratio")? } as f32,
-                    n("viscous_ratio")? as f32,
-                    // and before the Stribeck velocity ratio existed, the same vs both ways
-                    if f.contains_key("stribeck_velocity_ratio") { n("stribeck_velocity_ratio")? } else { 0.0 } as f32
-                ),
-                "offset" => format!("offset: Some(fx::Offset {{ force: {:?} }}),", n("force_n")? as f32),
-                "load_dependence" => format!(
-                    "load_dependence: Some(fx::LoadDependence {{ static_share: {:?}, ..fx::LoadDependence::power({:?}, {:?}, {:?}) }}),",
-                    // files without it scale both levels in proportion
-                    if f.contains_key("static_share") { n("static_share")? } else { 1.0 } as f32,
-                    n("coefficient_n_per_pa")? as f32,
-                    n("reference_pressure_sum_pa")? as f32,
-                    // files written before the exponent existed are linear
-                    if f.contains_key("exponent") { n("exponent")? } else { 1.0 } as f32
-                ),
-                "temperature_dependence" => format!(
-                    "temperature_dependence: Some(fx::TemperatureDependence {{ viscous_per_kelvin: {:?}, coulomb_per_kelvin: {:?}, reference_temperature: {:?} }}),",
-                    n("viscous_per_kelvin")? as f32,
-                    n("coulomb_per_kelvin")? as f32,
-                    n("reference_temperature_c")? as f32
-                ),
-                "stribeck_shape" => format!(
-                    "stribeck_shape: Some(fx::StribeckShape {{ exponent: {:?} }}),",
-                    n("exponent")? as f32
-                ),
-                "viscous_power" => format!(
-                    "viscous_power: Some(fx::ViscousPower {{ exponent: {:?}, reference_velocity: {:?} }}),",
-                    n("exponent")? as f32,
-                    n("reference_velocity_m_per_s")? as f32
-                ),
-                "dwell_stiction" => format!(
-                    "dwell_stiction: Some(fx::DwellStiction {{ max_increase: {:?}, time_constant: {:?}, stick_velocity: {:?}, renewal_distance: {:?} }}),",
-                    n("max_increase_n")? as f32,
-                    n("time_constant_s")? as f32,
-                    n("stick_velocity_m_per_s")? as f32,
-                    // files written before session 8 have none: the host's default
-                    f.get("renewal_distance_m").and_then(toml::Value::as_float).unwrap_or(1e-4) as f32
-                ),
-                "position_dependence" => format!(
-                    "position_dependence: Some(fx::PositionDependence::linear({:?}, {:?})),",
-                    n("gradient_n_per_m")? as f32,
-                    n("center_m")? as f32
-                ),
-                other => return Err(format!("[effects.{other}] is not an effect the firmware knows")),
-            };
-            if matches!(name.as_str(), "position_dependence" | "load_dependence")
-                && f.get("cosine_n").is_some()
-            {
-                return Err(format!(
-                    "[effects.{name}] cosine terms are not carried to the firmware yet"
-                ));
-            }
-            writeln!(effects, "        {code}").ok();
-        }
-    }
-    let source = root
-        .get("fit")
-        .and_then(|f| f.get("source"))
-        .and_then(toml::Value::as_str)
-        .unwrap_or("unknown");
+    let (file, model) = ParamFile::read(Path::new(path)).map_err(|e| e.to_string())?;
+    let mass = file.axis.moving_mass_kg;
+    let m32: FrictionModel<f32> = model
+        .cast()
+        .map_err(|e| format!("{path}: as f32: [lugre] {e}"))?;
+    let back: FrictionModel<f64> = m32
+        .cast()
+        .map_err(|e| format!("{path}: as f32: [lugre] {e}"))?;
+    ParamFile::new(&back, f64::from(mass as f32))
+        .model()
+        .map_err(|e| format!("{path}: as f32: {e}"))?;
+    let p32 = m32.params;
+    let effects = effects_code(&m32.effects);
+    let source = file.fit.source.as_deref().unwrap_or("unknown");
     Ok(format!(
-        "// Generated by build.rs from {path} ({source}); validated with LugreParams::check_physical.\n\
+        "// Generated by build.rs from {path} ({source}); read and validated by the parameter file's reader, as f64 and as f32.\n\
          /// Where the parameters come from.\n\
          pub const SOURCE: &str = {path:?};\n\
          /// Moving mass \\[kg\\].\n\

@@ -69,6 +69,8 @@
 //!   firmware.
 //! * [`control`]: the 1 kHz controller: estimator, observer, feed-forward, cascade,
 //!   refinement, faults.
+//! * `params_file` (feature `params-file`, with `std`): the TOML parameter file the host
+//!   tools write and read, and the firmware's build script turns into its model.
 #![cfg_attr(not(feature = "std"), no_std)]
 
 pub mod axis;
@@ -77,3 +79,5 @@ pub mod friction;
 pub mod identify;
 pub mod link;
 pub mod math;
+#[cfg(feature = "params-file")]
+pub mod params_file;
