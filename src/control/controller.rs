@@ -689,7 +689,9 @@ impl Controller {
         let est = self.estimator;
         let measured_force =
             m.pressure_a_pa * c.piston_area_m2 - m.pressure_b_pa * c.annulus_area_m2;
-        let cond = self.conditions(m);
+        // the period's conditions evaluated once for the model in use: feed-forward, observer
+        // and the static fall-back step it at the same conditions
+        let cond = self.model.under(&self.conditions(m));
         let v_ref_mean = match self.last_ref {
             Some(prev) => (r.position_m - prev) / h,
             None => r.velocity_m_per_s,
@@ -727,11 +729,15 @@ impl Controller {
             } else {
                 out.faults.insert(Faults::OBSERVER_DIVERGED);
                 // fall back to the static model along the reference
-                compensation = self.model.steady_state_force(r.velocity_m_per_s, &cond);
+                compensation = self
+                    .model
+                    .steady_state_force_under(r.velocity_m_per_s, &cond);
             }
         }
         if c.features.static_feedforward {
-            compensation = self.model.steady_state_force(r.velocity_m_per_s, &cond);
+            compensation = self
+                .model
+                .steady_state_force_under(r.velocity_m_per_s, &cond);
             out.friction_feedforward_n = compensation;
         }
         if c.features.disturbance_observer {

@@ -21,7 +21,7 @@
 /// Time constant of the bristle relaxation while the reference is at rest \[s\].
 pub const REST_RELAXATION_S: f32 = 0.05;
 
-use crate::friction::{Conditions, FrictionModel, FrictionState};
+use crate::friction::{FrictionModel, FrictionState, UnderConditions};
 
 /// Feed-forward state: the LuGre model along the reference.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -40,20 +40,21 @@ impl Feedforward {
     }
 
     /// One step along the reference: mean reference velocity over the period and the
-    /// reference velocity now [m/s]; `rest_decay` from [`Self::rest_decay`].
+    /// reference velocity now [m/s], at the period's conditions evaluated for `model`
+    /// ([`FrictionModel::under`]); `rest_decay` from [`Self::rest_decay`].
     pub fn update(
         &mut self,
         model: &FrictionModel<f32>,
         v_ref_mean: f32,
         v_ref: f32,
-        c: &Conditions<f32>,
+        c: &UnderConditions<f32>,
         h: f32,
         rest_decay: f32,
     ) -> f32 {
         if v_ref == 0.0 && v_ref_mean == 0.0 {
             self.state.z *= rest_decay;
         }
-        self.force = model.step_split(&mut self.state, v_ref_mean, v_ref, c, h);
+        self.force = model.step_driven_under(&mut self.state, v_ref_mean, v_ref_mean, v_ref, c, h);
         if !self.force.is_finite() {
             *self = Self::default();
         }

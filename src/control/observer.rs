@@ -13,7 +13,7 @@
 //! `sigma0 |v| / g` vanishes while the correction keeps driving). Only a non-finite state counts
 //! as divergence: the observer then resets and reports it.
 
-use crate::friction::{Conditions, FrictionModel, FrictionState};
+use crate::friction::{FrictionModel, FrictionState, UnderConditions};
 
 /// Observer state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -26,7 +26,8 @@ pub struct Observer {
 
 impl Observer {
     /// One step: `mean_velocity` [m/s] over the period, `velocity` [m/s] now, tracking error
-    /// `error` \[m\], gain `k` [1/s]. Returns false (and resets) on divergence.
+    /// `error` \[m\], gain `k` [1/s], at the period's conditions evaluated for `model`
+    /// ([`FrictionModel::under`]). Returns false (and resets) on divergence.
     pub fn update(
         &mut self,
         model: &FrictionModel<f32>,
@@ -34,12 +35,12 @@ impl Observer {
         velocity: f32,
         error: f32,
         k: f32,
-        c: &Conditions<f32>,
+        c: &UnderConditions<f32>,
         h: f32,
     ) -> bool {
         // the model's own step, driven by the corrected velocity and projected onto
         // |z| <= Fs / sigma0 (see FrictionModel::step_driven)
-        let force = model.step_driven(
+        let force = model.step_driven_under(
             &mut self.state,
             mean_velocity - k * error,
             mean_velocity,
@@ -68,7 +69,7 @@ mod tests {
     fn the_estimate_stays_within_the_physical_bound() {
         let model = FrictionModel::plain(LugreParams::<f32>::table2());
         let p = model.params;
-        let c = model.effects.reference_conditions();
+        let c = model.under(&model.effects.reference_conditions());
         let mut o = Observer::default();
         for k in 0..20_000 {
             // at standstill with a large, alternating error: the correction drives hard

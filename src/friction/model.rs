@@ -42,10 +42,14 @@ pub struct CurveStep<T> {
     pub backward: Levels<T>,
 }
 
-/// What the conditions (pressure, position, temperature) and the dwell time do to the levels,
-/// whatever the direction (see [`FrictionModel::levels`]).
-#[derive(Clone, Copy, Debug)]
-struct ConditionFactors<T> {
+/// What one set of conditions (pressure, position, temperature) does to a model's levels,
+/// whatever the direction and the dwell time ([`FrictionModel::under`]): evaluated once, it
+/// serves every step taken at those conditions. A controller steps its feed-forward and its
+/// observer with one model at one period's conditions; a position dependence's cosine series
+/// (one `cos` whose libm kernel runs in double precision, soft-float on a Cortex-M4F) is then
+/// evaluated once a period instead of once a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UnderConditions<T> {
     /// `load_dependence`'s scale of the Coulomb level, `L = 1 + dF(p) / Fs`, and of the
     /// Stribeck hump `Fs - Fc`, `1 + beta (L - 1)`.
     load_scale: Option<(T, T)>,
@@ -53,8 +57,6 @@ struct ConditionFactors<T> {
     position_shift: T,
     /// `temperature_dependence`'s scale of both levels and factor of the viscous coefficient.
     temperature: Option<(T, T)>,
-    /// `dwell_stiction`'s increase of the static level \[N\].
-    dwell_increase: Option<T>,
 }
 
 /// Mutable state of a [`FrictionModel`].
@@ -100,7 +102,8 @@ impl<T: ModelFloat> FrictionModel<T> {
     pub fn levels(&self, velocity: T, c: &Conditions<T>, dwell_time: T) -> Levels<T> {
         self.levels_in(
             velocity >= T::zero(),
-            &self.condition_factors(c, dwell_time),
+            &self.under(c),
+            self.dwell_increase(dwell_time),
         )
     }
 
@@ -109,21 +112,43 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// once for both.
     #[inline]
     pub fn levels_by_direction(&self, c: &Conditions<T>, dwell_time: T) -> (Levels<T>, Levels<T>) {
-        let f = self.condition_factors(c, dwell_time);
-        let forward = self.levels_in(true, &f);
+        self.levels_by_direction_under(&self.under(c), dwell_time)
+    }
+
+    /// [`Self::levels_by_direction`] at conditions already evaluated ([`Self::under`]).
+    #[inline]
+    pub fn levels_by_direction_under(
+        &self,
+        f: &UnderConditions<T>,
+        dwell_time: T,
+    ) -> (Levels<T>, Levels<T>) {
+        let dwell_increase = self.dwell_increase(dwell_time);
+        let forward = self.levels_in(true, f, dwell_increase);
         let backward = if self.effects.asymmetry.is_some() {
-            self.levels_in(false, &f)
+            self.levels_in(false, f, dwell_increase)
         } else {
             forward
         };
         (forward, backward)
     }
 
-    /// What the conditions and the dwell time do to the levels, whatever the direction.
+    /// `dwell_stiction`'s increase of the static level after `dwell_time` \[s\] at rest \[N\]
+    /// (`None` without it).
     #[inline(always)]
-    fn condition_factors(&self, c: &Conditions<T>, dwell_time: T) -> ConditionFactors<T> {
+    fn dwell_increase(&self, dwell_time: T) -> Option<T> {
+        self.effects.dwell_stiction.map(|d| {
+            let tau = d.time_constant.max(T::min_positive_value());
+            d.max_increase * (-(-dwell_time / tau).exp_m1())
+        })
+    }
+
+    /// What conditions `c` do to this model's levels, evaluated once for every step and force
+    /// taken at them ([`UnderConditions`]; the load's scale depends on the model's `Fs`, so it
+    /// belongs to this model).
+    #[inline]
+    pub fn under(&self, c: &Conditions<T>) -> UnderConditions<T> {
         let e = &self.effects;
-        ConditionFactors {
+        UnderConditions {
             // the seal's normal force grows with the pressure and the levels scale with it
             // (Fs > 0 is a LugreParams invariant)
             load_scale: e
@@ -139,16 +164,18 @@ impl<T: ModelFloat> FrictionModel<T> {
                     (-t.viscous_per_kelvin * dt).exp(),
                 )
             }),
-            dwell_increase: e.dwell_stiction.map(|d| {
-                let tau = d.time_constant.max(T::min_positive_value());
-                d.max_increase * (-(-dwell_time / tau).exp_m1())
-            }),
         }
     }
 
-    /// The levels in one direction (`forward`: v >= 0) under the conditions' factors.
+    /// The levels in one direction (`forward`: v >= 0) under the conditions' factors and the
+    /// dwell's increase.
     #[inline]
-    fn levels_in(&self, forward: bool, f: &ConditionFactors<T>) -> Levels<T> {
+    fn levels_in(
+        &self,
+        forward: bool,
+        f: &UnderConditions<T>,
+        dwell_increase: Option<T>,
+    ) -> Levels<T> {
         let p = &self.params;
         let mut coulomb = p.coulomb_force();
         let mut static_ = p.static_force();
@@ -173,7 +200,7 @@ impl<T: ModelFloat> FrictionModel<T> {
             static_ = static_ * scale;
             viscous = viscous * viscous_factor;
         }
-        if let Some(increase) = f.dwell_increase {
+        if let Some(increase) = dwell_increase {
             static_ = static_ + increase;
         }
         // A seal never pushes: keep levels physical whatever the conditions.
@@ -247,7 +274,12 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// Steady-state friction at constant velocity (after a long slide: no dwell) \[N\],
     /// including the offset.
     pub fn steady_state_force(&self, velocity: T, c: &Conditions<T>) -> T {
-        let l = self.levels(velocity, c, T::zero());
+        self.steady_state_force_under(velocity, &self.under(c))
+    }
+
+    /// [`Self::steady_state_force`] at conditions already evaluated ([`Self::under`]).
+    pub fn steady_state_force_under(&self, velocity: T, f: &UnderConditions<T>) -> T {
+        let l = self.levels_in(velocity >= T::zero(), f, self.dwell_increase(T::zero()));
         let dir = super::params::direction(velocity);
         self.stribeck_curve(velocity, &l) * dir
             + self.viscous_force(velocity, &l)
@@ -296,7 +328,7 @@ impl<T: ModelFloat> FrictionModel<T> {
         dt: T,
         stribeck_decay: Option<T>,
     ) -> CurveStep<T> {
-        let (forward, backward) = self.clock_and_levels(s, mean_velocity, c, dt);
+        let (forward, backward) = self.clock_and_levels(s, mean_velocity, &self.under(c), dt);
         let (force, stribeck_level) = self.step_driven_at_levels(
             s,
             mean_velocity,
@@ -330,7 +362,21 @@ impl<T: ModelFloat> FrictionModel<T> {
         c: &Conditions<T>,
         dt: T,
     ) -> T {
-        let (forward, backward) = self.clock_and_levels(s, mean_velocity, c, dt);
+        self.step_driven_under(s, drive, mean_velocity, velocity, &self.under(c), dt)
+    }
+
+    /// [`Self::step_driven`] at conditions already evaluated ([`Self::under`]): the same result,
+    /// bit for bit.
+    pub fn step_driven_under(
+        &self,
+        s: &mut FrictionState<T>,
+        drive: T,
+        mean_velocity: T,
+        velocity: T,
+        f: &UnderConditions<T>,
+        dt: T,
+    ) -> T {
+        let (forward, backward) = self.clock_and_levels(s, mean_velocity, f, dt);
         self.step_driven_at_levels(
             s,
             drive,
@@ -353,7 +399,7 @@ impl<T: ModelFloat> FrictionModel<T> {
         &self,
         s: &mut FrictionState<T>,
         mean_velocity: T,
-        c: &Conditions<T>,
+        f: &UnderConditions<T>,
         dt: T,
     ) -> (Levels<T>, Levels<T>) {
         if let Some(d) = self.effects.dwell_stiction {
@@ -371,7 +417,7 @@ impl<T: ModelFloat> FrictionModel<T> {
                 };
             }
         }
-        self.levels_by_direction(c, s.dwell_time)
+        self.levels_by_direction_under(f, s.dwell_time)
     }
 
     /// The levels of both directions when nothing makes them depend on the conditions or
@@ -761,6 +807,72 @@ mod tests {
         };
         assert!((at(0.3) - 606.0).abs() < 1e-9);
         assert!((at(0.1) - 406.0).abs() < 1e-9);
+    }
+
+    /// Conditions evaluated once ([`FrictionModel::under`]) step a model exactly as the
+    /// conditions themselves do, bit for bit, with every effect that reads them (and the rest)
+    /// switched on: the controller evaluates them once a period and steps two models with them.
+    #[test]
+    fn conditions_evaluated_once_step_bit_for_bit_as_the_conditions() {
+        let mut m = base();
+        let mut ld = LoadDependence::power(3e-6, 1.2e7, 0.8);
+        (ld.half_span, ld.terms, ld.static_share) = (1e7, 3, 0.5);
+        ld.cosine[..3].copy_from_slice(&[8.0, -4.0, 2.0]);
+        let mut pd = PositionDependence::linear(60.0, 0.2);
+        (pd.half_span, pd.terms) = (0.2, 16);
+        for (j, c) in pd.cosine.iter_mut().enumerate() {
+            *c = 9.0 * (1.7 * j as f64).sin();
+        }
+        m.effects = Effects {
+            asymmetry: Some(Asymmetry {
+                coulomb_ratio: 0.1,
+                static_ratio: -0.05,
+                viscous_ratio: 0.2,
+                stribeck_velocity_ratio: 0.1,
+            }),
+            offset: Some(Offset { force: 12.0 }),
+            load_dependence: Some(ld),
+            position_dependence: Some(pd),
+            temperature_dependence: Some(TemperatureDependence {
+                viscous_per_kelvin: 0.02,
+                coulomb_per_kelvin: 0.004,
+                reference_temperature: 40.0,
+            }),
+            stribeck_shape: Some(StribeckShape { exponent: 1.3 }),
+            viscous_power: Some(ViscousPower {
+                exponent: 0.7,
+                reference_velocity: 0.05,
+            }),
+            dwell_stiction: Some(DwellStiction {
+                max_increase: 40.0,
+                time_constant: 0.5,
+                stick_velocity: 1e-4,
+                renewal_distance: 1e-4,
+            }),
+        };
+        let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
+        let (h, mut longest_rest) = (1e-3, 0.0f64);
+        for k in 0..4000 {
+            let t = k as f64 * h;
+            // reversals, rests and a sweep of every condition
+            let v = 0.03 * (2.0 * t).sin().powi(3);
+            let c = Conditions {
+                position: 0.2 + 0.15 * (0.7 * t).sin(),
+                pressure_sum: 1.2e7 + 8e6 * (1.3 * t).cos(),
+                temperature: 40.0 + 10.0 * (0.4 * t).sin(),
+            };
+            let drive = v + 1e-4 * (31.0 * t).sin();
+            let fa = m.step_driven(&mut a, drive, v, v, &c, h);
+            let fb = m.step_driven_under(&mut b, drive, v, v, &m.under(&c), h);
+            assert_eq!((fa, a), (fb, b), "step {k}");
+            longest_rest = longest_rest.max(a.dwell_time);
+            assert_eq!(
+                m.steady_state_force(v, &c),
+                m.steady_state_force_under(v, &m.under(&c))
+            );
+        }
+        // the trajectory rested long enough for the dwell clock to matter
+        assert!(longest_rest > 0.1, "{longest_rest}");
     }
 
     #[test]
