@@ -173,7 +173,7 @@ fn generate(path: &str) -> Result<String, String> {
          /// Where the parameters come from.\n\
          pub const SOURCE: &str = {path:?};\n\
          /// Moving mass \\[kg\\].\n\
-         pub const MOVING_MASS_KG: f32 = {mass:?};\n\
+         pub const MOVING_MASS_KG: f32 = {mass};\n\
          /// Base LuGre parameters: sigma0, sigma1, sigma2, Fc, Fs, vs (SI).\n\
          pub const LUGRE: [f32; 6] = [{:?}, {:?}, {:?}, {:?}, {:?}, {:?}];\n\
          /// The identified friction model (validated at build time; Table 2 if the f32 set were\n\
@@ -198,6 +198,6 @@ fn generate(path: &str) -> Result<String, String> {
         p32.coulomb_force(),
         p32.static_force(),
         p32.stribeck_velocity(),
-        mass = mass as f32,
+        mass = lit(mass as f32),
     ))
 }
