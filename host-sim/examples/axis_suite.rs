@@ -125,6 +125,10 @@ struct Row {
     offset_in_place_pct: f64,
     /// the parsimony check between nested effects, where it ran (`Candidate::nested_check`)
     nested_check: Option<diagnose::NestedCheck>,
+    /// the asymmetric static table's error on the baseline's samples (`Diagnosis::tables`):
+    /// where it is below `baseline_pct` the dynamic baseline fits worse than a closed-form
+    /// static model [%]
+    table_asymmetric_pct: f64,
     /// every candidate of the baseline, ranked: (effect, dBIC, error with it [%], detected,
     /// the error cut the decision weighs, significant, the force it explains, rms [N])
     candidates: Vec<(String, f64, f64, bool, f64, bool, f64)>,
@@ -642,6 +646,7 @@ fn run(
         without_effect_pct: f64::NAN,
         offset_in_place_pct: f64::NAN,
         nested_check: None,
+        table_asymmetric_pct: f64::NAN,
         candidates: Vec::new(),
         force_noise_n: f64::NAN,
         force_noise_in_band_n: f64::NAN,
@@ -744,6 +749,7 @@ fn run(
     row.departures = d.breakaway.departures.len();
     row.peak_trend_dbic = d.breakaway.trend.as_ref().map_or(f64::NAN, |t| t.delta_bic);
     row.baseline_pct = d.stages[0].fit.rel_err_pct;
+    row.table_asymmetric_pct = d.tables.asymmetric.rel_err_pct;
     row.added_pct = d.stages[d.stages.len() - 1].fit.rel_err_pct;
     row.baseline_plain_pct = d.stages[0].plain_rel_err_pct;
     row.added_plain_pct = d.stages[d.stages.len() - 1].plain_rel_err_pct;
