@@ -9,7 +9,9 @@ pub mod diagnose;
 pub mod error;
 pub mod experiments;
 pub mod identify;
-pub mod params_file;
+/// The parameter file (TOML) identification writes and every other tool reads: the core's
+/// reader and validator, which the firmware's build script uses too.
+pub use lugre_servo::params_file;
 pub mod pil;
 pub mod plant;
 pub mod record;

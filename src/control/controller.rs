@@ -10,7 +10,7 @@ use super::observer::Observer;
 use super::position::{Cascade, CascadeConfig};
 use super::refine::{RefineConfig, Refiner};
 use crate::axis::AxisGeometry;
-use crate::friction::{Conditions, FrictionModel, LugreParams, ParamError};
+use crate::friction::{Conditions, FrictionModel, LugreParams, ParamError, UnderConditions};
 
 /// Which compensation parts run (the benchmark's configurations).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -587,8 +587,11 @@ impl Controller {
         // 2. estimate
         self.estimator
             .update(&self.config.estimator, m.position_m, self.config.period_s);
+        // the period's conditions, evaluated once: feed-forward, observer, the static
+        // fall-back and the health monitor's identified model (the same effects) use them
+        let cond = self.model.under(&self.conditions(m));
         // 3. compensate
-        let measured_force = self.compensate(m, r, &mut out);
+        let measured_force = self.compensate(m, r, &cond, &mut out);
         // 4. cascade
         let c = &self.config;
         let est = self.estimator;
@@ -613,7 +616,7 @@ impl Controller {
         out.valve_command = co.command;
         // 6. health: the friction the force balance shows against the identified model
         if self.health.sample_due(&self.config.health) {
-            self.monitor_health(m, r, measured_force);
+            self.monitor_health(r, &cond, measured_force);
         }
         out.health_warning = self.health.warning();
         // 7. refinement, after the output: it adapts the model the next period uses
@@ -683,15 +686,18 @@ impl Controller {
 
     /// The friction compensation \[N\] into `out` (with its parts), by the enabled features;
     /// returns the actuator force measured from the chamber pressures \[N\].
-    fn compensate(&mut self, m: &Measurements, r: &Reference, out: &mut Output) -> f32 {
+    fn compensate(
+        &mut self,
+        m: &Measurements,
+        r: &Reference,
+        cond: &UnderConditions<f32>,
+        out: &mut Output,
+    ) -> f32 {
         let c = &self.config;
         let h = c.period_s;
         let est = self.estimator;
         let measured_force =
             m.pressure_a_pa * c.piston_area_m2 - m.pressure_b_pa * c.annulus_area_m2;
-        // the period's conditions evaluated once for the model in use: feed-forward, observer
-        // and the static fall-back step it at the same conditions
-        let cond = self.model.under(&self.conditions(m));
         let v_ref_mean = match self.last_ref {
             Some(prev) => (r.position_m - prev) / h,
             None => r.velocity_m_per_s,
@@ -706,7 +712,7 @@ impl Controller {
                 &self.model,
                 v_ref_mean,
                 r.velocity_m_per_s,
-                &cond,
+                cond,
                 h,
                 self.gains.rest_decay,
             );
@@ -719,7 +725,7 @@ impl Controller {
                 est.velocity,
                 -e,
                 c.observer_gain,
-                &cond,
+                cond,
                 h,
             );
             if ok {
@@ -731,13 +737,13 @@ impl Controller {
                 // fall back to the static model along the reference
                 compensation = self
                     .model
-                    .steady_state_force_under(r.velocity_m_per_s, &cond);
+                    .steady_state_force_under(r.velocity_m_per_s, cond);
             }
         }
         if c.features.static_feedforward {
             compensation = self
                 .model
-                .steady_state_force_under(r.velocity_m_per_s, &cond);
+                .steady_state_force_under(r.velocity_m_per_s, cond);
             out.friction_feedforward_n = compensation;
         }
         if c.features.disturbance_observer {
@@ -822,15 +828,16 @@ impl Controller {
     /// Feeds the health monitor: while the axis slides steadily, the friction of the force
     /// balance against the identified model's (not the refined one's: the refinement follows
     /// the drift the monitor is there to report).
-    fn monitor_health(&mut self, m: &Measurements, r: &Reference, measured_force: f32) {
+    fn monitor_health(&mut self, r: &Reference, cond: &UnderConditions<f32>, measured_force: f32) {
         let c = &self.config;
+        // `cond` was evaluated for the model in use, whose effects are the identified model's
+        // (refinement, ramps and settings change the parameters only)
         let est = &self.estimator;
         let vs = c.model.params.stribeck_velocity();
         let sliding = est.velocity.abs() > c.health.min_speed_factor * vs
             && r.acceleration_m_per_s2.abs() < c.health.max_acceleration_m_per_s2;
         let model_n = if sliding {
-            c.model
-                .steady_state_force(est.velocity, &self.conditions(m))
+            c.model.steady_state_force_under(est.velocity, cond)
         } else {
             0.0
         };

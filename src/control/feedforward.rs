@@ -54,6 +54,7 @@ impl Feedforward {
         if v_ref == 0.0 && v_ref_mean == 0.0 {
             self.state.z *= rest_decay;
         }
+        // the model's own step: its bristle driven by the mean velocity itself
         self.force = model.step_driven_under(&mut self.state, v_ref_mean, v_ref_mean, v_ref, c, h);
         if !self.force.is_finite() {
             *self = Self::default();

@@ -44,15 +44,17 @@ pub struct CurveStep<T> {
 
 /// What one set of conditions (pressure, position, temperature) does to a model's levels,
 /// whatever the direction and the dwell time ([`FrictionModel::under`]): evaluated once, it
-/// serves every step taken at those conditions. A controller steps its feed-forward and its
-/// observer with one model at one period's conditions; a position dependence's cosine series
-/// (one `cos` whose libm kernel runs in double precision, soft-float on a Cortex-M4F) is then
-/// evaluated once a period instead of once a step.
+/// serves every step and force taken at those conditions. It depends on the model's effects
+/// only, not on its parameters, so models that differ in their levels alone share it (a
+/// controller's refined model and the identified one its health monitor compares with). A
+/// controller steps its feed-forward and its observer at one period's conditions; a position
+/// dependence's cosine series (one `cos` whose libm kernel runs in double precision,
+/// soft-float on a Cortex-M4F) is then evaluated once a period instead of once a use.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UnderConditions<T> {
-    /// `load_dependence`'s scale of the Coulomb level, `L = 1 + dF(p) / Fs`, and of the
-    /// Stribeck hump `Fs - Fc`, `1 + beta (L - 1)`.
-    load_scale: Option<(T, T)>,
+    /// `load_dependence`'s level shift `dF(p)` \[N\] (its scales depend on a model's `Fs`:
+    /// each model takes them from this shift).
+    load_shift: Option<T>,
     /// Added to both levels by `position_dependence` \[N\] (0 without it).
     position_shift: T,
     /// `temperature_dependence`'s scale of both levels and factor of the viscous coefficient.
@@ -142,18 +144,14 @@ impl<T: ModelFloat> FrictionModel<T> {
         })
     }
 
-    /// What conditions `c` do to this model's levels, evaluated once for every step and force
-    /// taken at them ([`UnderConditions`]; the load's scale depends on the model's `Fs`, so it
-    /// belongs to this model).
+    /// What conditions `c` do to the levels of this model, and of every model with its effects,
+    /// evaluated once for every step and force taken at them ([`UnderConditions`]).
     #[inline]
     pub fn under(&self, c: &Conditions<T>) -> UnderConditions<T> {
         let e = &self.effects;
         UnderConditions {
-            // the seal's normal force grows with the pressure and the levels scale with it
-            // (Fs > 0 is a LugreParams invariant)
-            load_scale: e
-                .load_dependence
-                .map(|l| l.scales(l.shift(c.pressure_sum), self.params.static_force())),
+            // the seal's normal force grows with the pressure (the levels scale with it)
+            load_shift: e.load_dependence.map(|l| l.shift(c.pressure_sum)),
             position_shift: e
                 .position_dependence
                 .map_or(T::zero(), |x| x.shift(c.position)),
@@ -167,8 +165,8 @@ impl<T: ModelFloat> FrictionModel<T> {
         }
     }
 
-    /// The levels in one direction (`forward`: v >= 0) under the conditions' factors and the
-    /// dwell's increase.
+    /// The levels in one direction (`forward`: v >= 0) at the conditions `f` and the dwell's
+    /// increase.
     #[inline]
     fn levels_in(
         &self,
@@ -186,7 +184,9 @@ impl<T: ModelFloat> FrictionModel<T> {
             static_ = static_ * (T::one() + s * a.static_ratio);
             viscous = viscous * (T::one() + s * a.viscous_ratio);
         }
-        if let Some((scale, hump_scale)) = f.load_scale {
+        if let (Some(l), Some(shift)) = (&self.effects.load_dependence, f.load_shift) {
+            // the levels scale with the shift over Fs (> 0, a LugreParams invariant)
+            let (scale, hump_scale) = l.scales(shift, p.static_force());
             // the hump by its own share of the change (a static level below the Coulomb one is
             // clamped below)
             let hump = static_ - coulomb;
@@ -811,7 +811,10 @@ mod tests {
 
     /// Conditions evaluated once ([`FrictionModel::under`]) step a model exactly as the
     /// conditions themselves do, bit for bit, with every effect that reads them (and the rest)
-    /// switched on: the controller evaluates them once a period and steps two models with them.
+    /// switched on; they serve a model with other levels and the same effects as well (the
+    /// controller evaluates them once a period for its refined model and the health monitor's
+    /// identified one: a load's scale, which depends on `Fs`, must not be frozen in them); and
+    /// each condition reaches the step through them.
     #[test]
     fn conditions_evaluated_once_step_bit_for_bit_as_the_conditions() {
         let mut m = base();
@@ -850,6 +853,9 @@ mod tests {
                 renewal_distance: 1e-4,
             }),
         };
+        // the same effects at other levels (a refined model)
+        let mut refined = m;
+        refined.params = LugreParams::new(3.9e9, 200.0, 40_000.0, 560.0, 720.0, 0.005).unwrap();
         let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
         let (h, mut longest_rest) = (1e-3, 0.0f64);
         for k in 0..4000 {
@@ -866,10 +872,39 @@ mod tests {
             let fb = m.step_driven_under(&mut b, drive, v, v, &m.under(&c), h);
             assert_eq!((fa, a), (fb, b), "step {k}");
             longest_rest = longest_rest.max(a.dwell_time);
-            assert_eq!(
-                m.steady_state_force(v, &c),
-                m.steady_state_force_under(v, &m.under(&c))
-            );
+            for model in [&m, &refined] {
+                assert_eq!(
+                    model.steady_state_force(v, &c),
+                    model.steady_state_force_under(v, &m.under(&c))
+                );
+            }
+            // while sliding, every condition moves the step through what `under` evaluated
+            if v.abs() < 1e-3 {
+                continue;
+            }
+            let at = |c: &Conditions<f64>| {
+                m.step_driven_under(&mut a.clone(), drive, v, v, &m.under(c), h)
+            };
+            for moved in [
+                Conditions {
+                    position: c.position + 0.05,
+                    ..c
+                },
+                Conditions {
+                    pressure_sum: c.pressure_sum + 2e6,
+                    ..c
+                },
+                Conditions {
+                    temperature: c.temperature + 5.0,
+                    ..c
+                },
+            ] {
+                assert_ne!(
+                    at(&c),
+                    at(&moved),
+                    "step {k}: {moved:?} did not move the force"
+                );
+            }
         }
         // the trajectory rested long enough for the dwell clock to matter
         assert!(longest_rest > 0.1, "{longest_rest}");
