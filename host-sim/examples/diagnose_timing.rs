@@ -15,6 +15,15 @@
 //! Maxwell-slip contact under the same axes (`generators::axis::Maxwell`). Generating a record is not timed. The machine
 //! is noisy: compare two builds by running them one after another on the same records, not
 //! against a number.
+//!
+//! `diagnose_timing --compare A1.json,A2.json B1.json,B2.json` compares two builds' runs
+//! (each a comma-separated list of `--json` files, interleaved runs of one build) record by
+//! record: each record's time averaged over its build's runs, then the median of the paired
+//! differences B - A and of the ratios B / A, beside the two builds' medians, and the records
+//! whose first significant candidate differs. The median of the paired differences is the
+//! robust yardstick: a build's overall median moves with which records sit near it (session
+//! 50: main's two runs' medians 2.06 and 2.11 s, the paired difference of a change +0.03 s
+//! while its overall median moved +0.11 s).
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;
@@ -55,6 +64,14 @@ struct Summary {
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(i) = args.iter().position(|a| a == "--compare") {
+        let (Some(a), Some(b)) = (args.get(i + 1), args.get(i + 2)) else {
+            eprintln!("--compare takes two comma-separated lists of --json files");
+            std::process::exit(2);
+        };
+        compare(a, b);
+        return;
+    }
     let json = args
         .iter()
         .position(|a| a == "--json")
@@ -130,4 +147,77 @@ fn main() {
             .expect("write json");
         println!("wrote {path}");
     }
+}
+
+/// One build's runs (`--json` files, comma-separated): each record's (effect, seed) with its
+/// time averaged over the runs \[s\] and its first run's first significant candidate.
+fn runs(list: &str) -> Vec<((String, u64), f64, Option<String>)> {
+    let files: Vec<serde_json::Value> = list
+        .split(',')
+        .map(|f| {
+            let parsed = std::fs::read_to_string(f)
+                .map_err(|e| e.to_string())
+                .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()));
+            parsed.unwrap_or_else(|e| {
+                eprintln!("{f}: {e}");
+                std::process::exit(2)
+            })
+        })
+        .collect();
+    let rows = |v: &serde_json::Value| v["rows"].as_array().cloned().unwrap_or_default();
+    let key = |r: &serde_json::Value| {
+        (
+            r["effect"].as_str().unwrap_or("?").to_string(),
+            r["seed"].as_u64().unwrap_or(0),
+        )
+    };
+    rows(&files[0])
+        .iter()
+        .map(|r| {
+            let k = key(r);
+            let times: Vec<f64> = files
+                .iter()
+                .filter_map(|f| rows(f).into_iter().find(|q| key(q) == k))
+                .filter_map(|q| q["seconds"].as_f64())
+                .collect();
+            let mean = times.iter().sum::<f64>() / times.len() as f64;
+            let first = r["first_significant"].as_str().map(str::to_string);
+            (k, mean, first)
+        })
+        .collect()
+}
+
+/// `--compare`: build B against build A, record by record (see the module's docs).
+fn compare(a: &str, b: &str) {
+    let (ra, rb) = (runs(a), runs(b));
+    let mut diffs = Vec::new();
+    let mut ratios = Vec::new();
+    for (k, ta, fa) in &ra {
+        let Some((_, tb, fb)) = rb.iter().find(|(kb, _, _)| kb == k) else {
+            continue;
+        };
+        diffs.push(tb - ta);
+        ratios.push(tb / ta);
+        if fa != fb {
+            println!(
+                "{} {}: first significant {} -> {}",
+                k.0,
+                k.1,
+                fa.as_deref().unwrap_or("-"),
+                fb.as_deref().unwrap_or("-")
+            );
+        }
+    }
+    let median = host_sim::stats::median;
+    let overall = |r: &[((String, u64), f64, Option<String>)]| {
+        median(&r.iter().map(|x| x.1).collect::<Vec<f64>>())
+    };
+    println!(
+        "{} records paired: A median {:.3} s, B median {:.3} s; paired B - A median {:+.3} s, B / A median {:.3}",
+        diffs.len(),
+        overall(&ra),
+        overall(&rb),
+        median(&diffs),
+        median(&ratios)
+    );
 }
