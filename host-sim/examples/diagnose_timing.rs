@@ -19,8 +19,9 @@
 //! `diagnose_timing --compare A1.json,A2.json B1.json,B2.json` compares two builds' runs
 //! (each a comma-separated list of `--json` files, interleaved runs of one build) record by
 //! record: each record's time averaged over its build's runs, then the median of the paired
-//! differences B - A and of the ratios B / A, beside the two builds' medians, and the records
-//! whose first significant candidate differs. The median of the paired differences is the
+//! differences B - A and of the ratios B / A, beside the two builds' medians, each build's
+//! slowest record (on its mean over the runs), and the records whose first significant
+//! candidate differs. The median of the paired differences is the
 //! robust yardstick: a build's overall median moves with which records sit near it (session
 //! 50: main's two runs' medians 2.06 and 2.11 s, the paired difference of a change +0.03 s
 //! while its overall median moved +0.11 s).
@@ -164,7 +165,9 @@ fn runs(list: &str) -> Vec<((String, u64), f64, Option<String>)> {
             })
         })
         .collect();
-    let rows = |v: &serde_json::Value| v["rows"].as_array().cloned().unwrap_or_default();
+    fn rows(v: &serde_json::Value) -> &[serde_json::Value] {
+        v["rows"].as_array().map_or(&[], Vec::as_slice)
+    }
     let key = |r: &serde_json::Value| {
         (
             r["effect"].as_str().unwrap_or("?").to_string(),
@@ -177,7 +180,7 @@ fn runs(list: &str) -> Vec<((String, u64), f64, Option<String>)> {
             let k = key(r);
             let times: Vec<f64> = files
                 .iter()
-                .filter_map(|f| rows(f).into_iter().find(|q| key(q) == k))
+                .filter_map(|f| rows(f).iter().find(|q| key(q) == k))
                 .filter_map(|q| q["seconds"].as_f64())
                 .collect();
             let mean = times.iter().sum::<f64>() / times.len() as f64;
@@ -219,5 +222,18 @@ fn compare(a: &str, b: &str) {
         overall(&rb),
         median(&diffs),
         median(&ratios)
+    );
+    // the slowest record of each build, on its mean over the build's runs
+    let slowest = |r: &[((String, u64), f64, Option<String>)]| {
+        r.iter()
+            .max_by(|x, y| x.1.total_cmp(&y.1))
+            .map_or("-".to_string(), |(k, t, _)| {
+                format!("{t:.2} s ({} {})", k.0, k.1)
+            })
+    };
+    println!(
+        "slowest record (mean over the runs): A {}, B {}",
+        slowest(&ra),
+        slowest(&rb)
     );
 }

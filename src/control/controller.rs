@@ -832,6 +832,10 @@ impl Controller {
         let c = &self.config;
         // `cond` was evaluated for the model in use, whose effects are the identified model's
         // (refinement, ramps and settings change the parameters only)
+        debug_assert!(
+            self.model.effects == c.model.effects,
+            "the model in use carries other effects than the identified one"
+        );
         let est = &self.estimator;
         let vs = c.model.params.stribeck_velocity();
         let sliding = est.velocity.abs() > c.health.min_speed_factor * vs

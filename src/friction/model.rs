@@ -885,6 +885,7 @@ mod tests {
             let at = |c: &Conditions<f64>| {
                 m.step_driven_under(&mut a.clone(), drive, v, v, &m.under(c), h)
             };
+            let here = at(&c);
             for moved in [
                 Conditions {
                     position: c.position + 0.05,
@@ -900,7 +901,7 @@ mod tests {
                 },
             ] {
                 assert_ne!(
-                    at(&c),
+                    here,
                     at(&moved),
                     "step {k}: {moved:?} did not move the force"
                 );
