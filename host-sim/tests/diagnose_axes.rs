@@ -259,6 +259,34 @@ fn an_offset_the_baseline_bent_around_is_fitted_from_the_static_table() {
     );
 }
 
+/// Where the trigger fires, the leader is fitted from the static table as well as the offset
+/// and the asymmetry: on load record 20280 (hydraulic) the baseline bent to 28.56 % (the
+/// asymmetric table 21.58 %), the load led from it at 19.82 %, and an asymmetry fitted from the
+/// table alone (14.59 %) outranked it (session 50, registration A). From the table the load
+/// reaches the floor and is named.
+#[test]
+fn the_leader_is_fitted_from_the_static_table_with_the_offset_and_the_asymmetry() {
+    let (d, axis) = diagnose(Some("load_dependence"), 20280, &[]);
+    let c = &d.stages[0].candidates;
+    assert_eq!(
+        first_significant(c),
+        Some("load_dependence"),
+        "{}",
+        report(&d)
+    );
+    let load = c
+        .iter()
+        .find(|c| c.kind.name() == "load_dependence")
+        .unwrap();
+    assert!(load.from_static_table, "{}", report(&d));
+    let floor = truth_error_pct(&axis, &d.prepared);
+    let err = load.rel_err_pct.unwrap();
+    assert!(
+        err <= 1.2 * floor,
+        "load {err:.2} % against the floor {floor:.2} %"
+    );
+}
+
 /// The simpler effect of a nested pair, kept as the answer, carries the check that kept it:
 /// `larger` judged on top of it, with a cut under the decision's, the error of the stage that
 /// adding the kept effect gives (`d`'s second stage), and a sentence saying what would
