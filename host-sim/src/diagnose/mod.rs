@@ -365,9 +365,10 @@ pub struct Candidate {
     /// the new model.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub fitted_before_restart: bool,
-    /// Fitted from the static table as well as from the current model, and the table's fit won
-    /// (where an offset or asymmetry candidate fitted from the current model errs more than that
-    /// table: [`table_start`]).
+    /// Fitted from the asymmetric static table as well as from the current model, and the
+    /// table's fit won (where an offset or asymmetry candidate fitted from the current model
+    /// errs more than that table, the offset, the asymmetry and the polished leader are fitted
+    /// from it too; [`TABLE_SPANNED`]).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub from_static_table: bool,
     /// Where the table's fit won ([`Candidate::from_static_table`]): the fit from the current
