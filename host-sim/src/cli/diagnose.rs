@@ -473,27 +473,23 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                     _ => {}
                 }
             }
-            let kept: Vec<String> = s
-                .candidates
-                .iter()
-                .filter(|c| c.fitted_before_restart)
-                .map(|c| c.kind.to_string())
-                .collect();
-            if !kept.is_empty() {
-                println!(
-                    "   {}: {}",
-                    kept.join(", "),
-                    diagnose::FITTED_BEFORE_RESTART
-                );
-            }
-            let settled: Vec<String> = s
-                .candidates
-                .iter()
-                .filter(|c| c.settled_as_stage)
-                .map(|c| c.kind.to_string())
-                .collect();
-            if !settled.is_empty() {
-                println!("   {}: {}", settled.join(", "), diagnose::SETTLED_AS_STAGE);
+            // how some candidates were fitted: one line each, naming them
+            type Flag = fn(&diagnose::Candidate) -> bool;
+            let how: [(Flag, &str); 3] = [
+                (|c| c.fitted_before_restart, diagnose::FITTED_BEFORE_RESTART),
+                (|c| c.settled_as_stage, diagnose::SETTLED_AS_STAGE),
+                (|c| c.from_static_table, diagnose::FROM_STATIC_TABLE),
+            ];
+            for (which, what) in how {
+                let named: Vec<String> = s
+                    .candidates
+                    .iter()
+                    .filter(|c| which(c))
+                    .map(|c| c.kind.to_string())
+                    .collect();
+                if !named.is_empty() {
+                    println!("   {}: {what}", named.join(", "));
+                }
             }
             if !s.candidates.iter().any(|c| c.significant) {
                 let beyond = d.beyond_the_eight(s);

@@ -379,6 +379,9 @@ fn verdict(c: &super::Candidate) -> String {
     if c.settled_as_stage {
         v += &format!(" ({})", super::SETTLED_AS_STAGE);
     }
+    if c.from_static_table {
+        v += &format!(" ({})", super::FROM_STATIC_TABLE);
+    }
     if let Some(n) = c.kept_over_larger.filter(|_| c.significant) {
         // the whole sentence opens a one-stage page; a cell holds its numbers
         v += &format!(" (kept over {}, which contains it", n.larger);
