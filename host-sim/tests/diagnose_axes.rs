@@ -242,21 +242,26 @@ fn the_nested_check_judges_on_the_stage_fit() {
 /// 2.20 %; from it the offset candidate reaches the floor, and the offset is the answer.
 #[test]
 fn an_offset_the_baseline_bent_around_is_fitted_from_the_static_table() {
-    let (d, axis) = diagnose(Some("offset"), 31127, &[]);
-    let c = &d.stages[0].candidates;
-    println!("{}", report(&d));
+    let d = named_from_the_static_table("offset", 31127);
     // the premise: the static table beats the model the candidates start from
     assert!(d.tables.asymmetric.rel_err_pct < d.stages[0].fit.rel_err_pct);
-    assert_eq!(first_significant(c), Some("offset"), "{}", report(&d));
-    let offset = c.iter().find(|c| c.kind.name() == "offset").unwrap();
-    // its fit from the model erred more than the table, and the table's start won
-    assert!(offset.from_static_table, "{}", report(&d));
+}
+
+/// `effect`'s record `seed` names `effect` first, on its fit from the static table (the
+/// table's start won over the model's), within 1.2x the noise floor.
+fn named_from_the_static_table(effect: &'static str, seed: u64) -> Diagnosis {
+    let (d, axis) = diagnose(Some(effect), seed, &[]);
+    let c = &d.stages[0].candidates;
+    assert_eq!(first_significant(c), Some(effect), "{}", report(&d));
+    let named = c.iter().find(|c| c.kind.name() == effect).unwrap();
+    assert!(named.from_static_table, "{}", report(&d));
     let floor = truth_error_pct(&axis, &d.prepared);
-    let err = offset.rel_err_pct.unwrap();
+    let err = named.rel_err_pct.unwrap();
     assert!(
         err <= 1.2 * floor,
-        "offset {err:.2} % against the floor {floor:.2} %"
+        "{effect} {err:.2} % against the floor {floor:.2} %"
     );
+    d
 }
 
 /// Where the trigger fires, the leader is fitted from the static table as well as the offset
@@ -266,25 +271,7 @@ fn an_offset_the_baseline_bent_around_is_fitted_from_the_static_table() {
 /// reaches the floor and is named.
 #[test]
 fn the_leader_is_fitted_from_the_static_table_with_the_offset_and_the_asymmetry() {
-    let (d, axis) = diagnose(Some("load_dependence"), 20280, &[]);
-    let c = &d.stages[0].candidates;
-    assert_eq!(
-        first_significant(c),
-        Some("load_dependence"),
-        "{}",
-        report(&d)
-    );
-    let load = c
-        .iter()
-        .find(|c| c.kind.name() == "load_dependence")
-        .unwrap();
-    assert!(load.from_static_table, "{}", report(&d));
-    let floor = truth_error_pct(&axis, &d.prepared);
-    let err = load.rel_err_pct.unwrap();
-    assert!(
-        err <= 1.2 * floor,
-        "load {err:.2} % against the floor {floor:.2} %"
-    );
+    named_from_the_static_table("load_dependence", 20280);
 }
 
 /// The simpler effect of a nested pair, kept as the answer, carries the check that kept it:
