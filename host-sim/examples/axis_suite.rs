@@ -163,6 +163,9 @@ struct Row {
     /// the baseline's candidates searched again to settle a close call
     /// (`diagnose::CLOSE_CALL`, `Candidate::settled_as_stage`)
     settled: Vec<String>,
+    /// the baseline's candidates whose fit from the asymmetric static table won over their fit
+    /// from the model (`diagnose::TABLE_SPANNED`, `Candidate::from_static_table`)
+    from_table: Vec<String>,
 }
 
 /// The Maxwell-slip contact in the final model's place (`diagnose::contact`, tried where the
@@ -659,6 +662,7 @@ fn run(
         peak_trend_dbic: f64::NAN,
         restarts: 0,
         settled: Vec::new(),
+        from_table: Vec::new(),
     };
     let name = format!("{hidden}-{seed}.csv");
     let rec = match Record::parse(&text, Path::new(&name)) {
@@ -738,12 +742,16 @@ fn run(
         .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
         .and_then(|c| c.dwell);
     row.restarts = d.stages[0].restarts.len();
-    row.settled = d.stages[0]
-        .candidates
-        .iter()
-        .filter(|c| c.settled_as_stage)
-        .map(|c| c.kind.to_string())
-        .collect();
+    let named = |flag: fn(&diagnose::Candidate) -> bool| {
+        d.stages[0]
+            .candidates
+            .iter()
+            .filter(|c| flag(c))
+            .map(|c| c.kind.to_string())
+            .collect()
+    };
+    row.settled = named(|c| c.settled_as_stage);
+    row.from_table = named(|c| c.from_static_table);
     row.motion_spread_pct = d.motion_spread_pct;
     row.scored_fraction = p.scored_fraction();
     row.departures = d.breakaway.departures.len();

@@ -2765,8 +2765,8 @@ pub const TABLE_SPANNED: [EffectKind; 2] = [EffectKind::Offset, EffectKind::Asym
 /// current model into a basin its own refit cannot leave (never-run offset record 31127: the
 /// baseline at 8.00 % with its stiffness at the search's lower end and 537 kg for 340, the
 /// asymmetric table at 2.20 %, the offset candidate from the model 7.08 %, from the table
-/// 0.18 %). Every candidate, not only the ones that erred more, because the candidates are
-/// ranked against each other: with the table start only for a candidate that erred more,
+/// 0.18 %). Not only the candidates that erred more, because the candidates are ranked against
+/// each other: with the table start only for a candidate that erred more,
 /// offset record 20171 was named asymmetry (its candidate from the table 2.94 %, the offset's
 /// from the model 8.60 %, below the table) and load record 20280 asymmetry (14.59 % against
 /// the load's 19.82 % from a baseline at 28.56 %; from the table the load reaches the floor).
