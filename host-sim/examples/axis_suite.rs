@@ -742,16 +742,8 @@ fn run(
         .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
         .and_then(|c| c.dwell);
     row.restarts = d.stages[0].restarts.len();
-    let named = |flag: fn(&diagnose::Candidate) -> bool| {
-        d.stages[0]
-            .candidates
-            .iter()
-            .filter(|c| flag(c))
-            .map(|c| c.kind.to_string())
-            .collect()
-    };
-    row.settled = named(|c| c.settled_as_stage);
-    row.from_table = named(|c| c.from_static_table);
+    row.settled = d.stages[0].named_where(|c| c.settled_as_stage);
+    row.from_table = d.stages[0].named_where(|c| c.from_static_table);
     row.motion_spread_pct = d.motion_spread_pct;
     row.scored_fraction = p.scored_fraction();
     row.departures = d.breakaway.departures.len();

@@ -481,12 +481,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                 (|c| c.from_static_table, diagnose::FROM_STATIC_TABLE),
             ];
             for (which, what) in how {
-                let named: Vec<String> = s
-                    .candidates
-                    .iter()
-                    .filter(|c| which(c))
-                    .map(|c| c.kind.to_string())
-                    .collect();
+                let named = s.named_where(which);
                 if !named.is_empty() {
                     println!("   {}: {what}", named.join(", "));
                 }

@@ -548,6 +548,16 @@ pub struct Stage {
 }
 
 impl Stage {
+    /// The names of the stage's candidates for which `flag` holds, in ranking order (how some
+    /// were fitted: [`Candidate::settled_as_stage`], [`Candidate::from_static_table`], ...).
+    pub fn named_where(&self, flag: fn(&Candidate) -> bool) -> Vec<String> {
+        self.candidates
+            .iter()
+            .filter(|c| flag(c))
+            .map(|c| c.kind.to_string())
+            .collect()
+    }
+
     /// Where none of the stage's candidates is significant and the leading one comes near
     /// ([`Candidate::near_cut`]): that candidate and the sentence saying so.
     pub fn near_miss(&self) -> Option<(&Candidate, String)> {
