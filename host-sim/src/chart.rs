@@ -69,6 +69,62 @@ pub struct Bars<'a> {
     pub values: Vec<f64>,
 }
 
+/// Height of one legend entry as plotters draws it \[px\], generous.
+const LEGEND_ROW_PX: f64 = 20.0;
+/// Width of a legend label's character (the default 15 px font) \[px\], generous.
+const LEGEND_PX_PER_CHAR: f64 = 8.0;
+
+/// The corner of the plotting area where a legend of `labels` covers the fewest of the
+/// `occupied` points (data coordinates), so that it hides no data where a corner is free
+/// (plotters' default, the middle of the right edge, sat on the force trace). `area_px` is the
+/// plotting area's size in pixels; ties go to the upper right, then upper left.
+fn quiet_corner(
+    frame: (&(f64, f64), &(f64, f64)),
+    area_px: (u32, u32),
+    labels: &[&str],
+    occupied: impl Iterator<Item = (f64, f64)> + Clone,
+) -> SeriesLabelPosition {
+    let (x, y) = frame;
+    let longest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0) as f64;
+    // the box with its marker, padding and plotters' margin from the frame
+    let (box_w, box_h) = (
+        50.0 + LEGEND_PX_PER_CHAR * longest,
+        20.0 + LEGEND_ROW_PX * labels.len() as f64,
+    );
+    let fx = (box_w / f64::from(area_px.0.max(1))).min(1.0);
+    let fy = (box_h / f64::from(area_px.1.max(1))).min(1.0);
+    let (wx, wy) = (fx * (x.1 - x.0), fy * (y.1 - y.0));
+    let corners = [
+        (
+            SeriesLabelPosition::UpperRight,
+            x.1 - wx,
+            x.1,
+            y.1 - wy,
+            y.1,
+        ),
+        (SeriesLabelPosition::UpperLeft, x.0, x.0 + wx, y.1 - wy, y.1),
+        (
+            SeriesLabelPosition::LowerRight,
+            x.1 - wx,
+            x.1,
+            y.0,
+            y.0 + wy,
+        ),
+        (SeriesLabelPosition::LowerLeft, x.0, x.0 + wx, y.0, y.0 + wy),
+    ];
+    let covered = |&(_, x0, x1, y0, y1): &(SeriesLabelPosition, f64, f64, f64, f64)| {
+        occupied
+            .clone()
+            .filter(|&(px, py)| px >= x0 && px <= x1 && py >= y0 && py <= y1)
+            .count()
+    };
+    // (min_by_key keeps the first of equals: the order above is the preference)
+    corners
+        .iter()
+        .min_by_key(|c| covered(c))
+        .map_or(SeriesLabelPosition::UpperRight, |c| c.0.clone())
+}
+
 /// A line chart `height` px high.
 pub fn lines(height: u32, frame: &Frame, lines: &[Line]) -> Result<String> {
     let mut svg = String::new();
@@ -97,7 +153,15 @@ pub fn lines(height: u32, frame: &Frame, lines: &[Line]) -> Result<String> {
             .label(line.label)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
         }
+        let labels: Vec<&str> = lines.iter().map(|l| l.label).collect();
+        let corner = quiet_corner(
+            (&frame.x, &frame.y),
+            c.plotting_area().dim_in_pixel(),
+            &labels,
+            lines.iter().flat_map(|l| l.points.iter().copied()),
+        );
         c.configure_series_labels()
+            .position(corner)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .draw()
@@ -225,7 +289,26 @@ pub fn bars(
             .label("noise floor")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
         }
+        let mut labels: Vec<&str> = series.iter().map(|s| s.label).collect();
+        labels.extend(floor.map(|_| "noise floor"));
+        // each bar as points up its middle, ten to a bar: what the legend must not cover
+        let bar_points = series.iter().enumerate().flat_map(|(j, s)| {
+            s.values.iter().enumerate().flat_map(move |(i, v)| {
+                let x = i as f64 - 0.4 + (j as f64 + 0.45) * w;
+                (0..=10).map(move |k| (x, v * k as f64 / 10.0))
+            })
+        });
+        let floor_points = floor
+            .into_iter()
+            .flat_map(|f| (0..=20).map(move |k| (-0.5 + n * k as f64 / 20.0, f)));
+        let corner = quiet_corner(
+            (&(-0.5, n - 0.5), &(y0, y1)),
+            c.plotting_area().dim_in_pixel(),
+            &labels,
+            bar_points.chain(floor_points),
+        );
         c.configure_series_labels()
+            .position(corner)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .draw()
@@ -390,6 +473,26 @@ mod tests {
         )
         .unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("measured") && svg.contains("time [s]"));
+    }
+
+    /// The legend goes to a corner the data leave free: the upper right when it is free, else
+    /// the next free corner; with a trace through the upper right, not there.
+    #[test]
+    fn the_legend_takes_a_corner_the_data_leave_free() {
+        let (x, y) = ((0.0, 10.0), (0.0, 10.0));
+        let labels = ["measured", "first model"];
+        let corner =
+            |pts: &[(f64, f64)]| quiet_corner((&x, &y), (800, 400), &labels, pts.iter().copied());
+        assert!(matches!(
+            corner(&[(5.0, 5.0)]),
+            SeriesLabelPosition::UpperRight
+        ));
+        // a trace along the top right: the upper left is free
+        let top_right: Vec<(f64, f64)> = (0..50).map(|k| (5.0 + 0.1 * k as f64, 9.8)).collect();
+        assert!(matches!(corner(&top_right), SeriesLabelPosition::UpperLeft));
+        // a trace along the whole top: a lower corner
+        let top: Vec<(f64, f64)> = (0..100).map(|k| (0.1 * k as f64, 9.8)).collect();
+        assert!(matches!(corner(&top), SeriesLabelPosition::LowerRight));
     }
 
     /// A bar chart's category names hang down from the axis, starting just below it, never

@@ -2158,6 +2158,7 @@ fn judge(
         growth_dbic: growth.unwrap_or(f64::NAN),
         twin_rel_err_pct: null.rel_err_pct,
         record_cut: 1.0 - fit.rel_err_pct / current.fit.rel_err_pct,
+        peak_cut: 1.0 - (brk.peak_rss(&fit.prediction) / null.peak_rss).sqrt(),
     });
     Candidate {
         kind: info.kind,
@@ -2232,6 +2233,10 @@ pub struct DwellEvidence {
     pub twin_rel_err_pct: f64,
     /// The candidate's cut of the current model's error (a fraction).
     pub record_cut: f64,
+    /// The candidate's cut of the breakaway peaks' rms error against the twin's,
+    /// `1 - sqrt(RSS_peaks / RSS_peaks,twin)` (a fraction; NaN without peaks). Diagnostic:
+    /// where the dwell term acts, whatever the rest of the record leaves.
+    pub peak_cut: f64,
 }
 
 /// The rest-independent twin of a `dwell_stiction` fit (one refit), for [`judge`] to weigh;
