@@ -313,15 +313,16 @@ impl Breakaway {
             .sum()
     }
 
-    /// The peaks' evidence for a candidate's prediction over a model whose peak residual sum
-    /// is `current_peak_rss` \[N^2\] (`n ln(RSS_current / RSS_candidate)`), once there are
-    /// [`MIN_DEPARTURES`] departures, enough to be more than anecdote; `None` before.
-    pub fn counted_peak_dbic(&self, current_peak_rss: f64, candidate: &[f64]) -> Option<f64> {
+    /// The peaks' evidence for a candidate whose peak residual sum ([`Self::peak_rss`]) is
+    /// `candidate_peak_rss` over a model whose sum is `current_peak_rss` \[N^2\]
+    /// (`n ln(RSS_current / RSS_candidate)`), once there are [`MIN_DEPARTURES`] departures,
+    /// enough to be more than anecdote; `None` before.
+    pub fn counted_peak_dbic(&self, current_peak_rss: f64, candidate_peak_rss: f64) -> Option<f64> {
         let n = self.departures.len();
         if n < MIN_DEPARTURES {
             return None;
         }
-        let r1 = self.peak_rss(candidate);
+        let r1 = candidate_peak_rss;
         Some(if current_peak_rss > 0.0 && r1 > 0.0 {
             n as f64 * (current_peak_rss / r1).ln()
         } else {

@@ -2128,14 +2128,16 @@ fn judge(
     let k = own.len() + usize::from(info.nonlinear.is_some());
     let sliding = n_eff * (current.fit.rss / fit.rss).ln() - k as f64 * n_eff.ln();
     // the breakaway peaks count once there are enough of them to be more than anecdote
-    let peaks = brk.counted_peak_dbic(current.peak_rss, &fit.prediction);
+    // the candidate's breakaway peaks, weighed against the current model and the dwell twin
+    let peak_rss = brk.peak_rss(&fit.prediction);
+    let peaks = brk.counted_peak_dbic(current.peak_rss, peak_rss);
     let dbic = sliding + peaks.unwrap_or(0.0);
     // dwell stiction is a breakaway force that grows with the rest time: the record must be
     // able to show that, and the growth must beat a breakaway level of its own
     let growth = rest_null.map(|null| {
         n_eff * (null.rss / fit.rss).ln()
             + brk
-                .counted_peak_dbic(null.peak_rss, &fit.prediction)
+                .counted_peak_dbic(null.peak_rss, peak_rss)
                 .unwrap_or(0.0)
     });
     let caution = match info.kind {
@@ -2158,7 +2160,7 @@ fn judge(
         growth_dbic: growth.unwrap_or(f64::NAN),
         twin_rel_err_pct: null.rel_err_pct,
         record_cut: 1.0 - fit.rel_err_pct / current.fit.rel_err_pct,
-        peak_cut: 1.0 - (brk.peak_rss(&fit.prediction) / null.peak_rss).sqrt(),
+        peak_cut: 1.0 - (peak_rss / null.peak_rss).sqrt(),
     });
     Candidate {
         kind: info.kind,
