@@ -74,55 +74,61 @@ const LEGEND_ROW_PX: f64 = 20.0;
 /// Width of a legend label's character (the default 15 px font) \[px\], generous.
 const LEGEND_PX_PER_CHAR: f64 = 8.0;
 
-/// The corner of the plotting area where a legend of `labels` covers the fewest of the
-/// `occupied` points (data coordinates), so that it hides no data where a corner is free
-/// (plotters' default, the middle of the right edge, sat on the force trace). `area_px` is the
-/// plotting area's size in pixels; ties go to the upper right, then upper left.
+/// A stretch of the plotting area the data occupy, `(x_min, x_max, y_min, y_max)` in data
+/// coordinates: a line's segment, a bar, a reference line.
+type Occupied = (f64, f64, f64, f64);
+
+/// The bounding box of each segment of a line: a steep jump through a corner occupies it even
+/// where no sample falls inside.
+fn segments(points: &[(f64, f64)]) -> impl Iterator<Item = Occupied> + Clone + '_ {
+    points.windows(2).map(|w| {
+        (
+            w[0].0.min(w[1].0),
+            w[0].0.max(w[1].0),
+            w[0].1.min(w[1].1),
+            w[0].1.max(w[1].1),
+        )
+    })
+}
+
+/// The corner of the plotting area where a legend of `labels` overlaps the fewest `occupied`
+/// stretches, so that it hides no data where a corner is free (plotters' default, the middle of
+/// the right edge, sat on the force trace). `area_px` is the plotting area's size in pixels;
+/// ties go to the upper right, then the upper left, the lower right, the lower left.
 fn quiet_corner(
     frame: (&(f64, f64), &(f64, f64)),
     area_px: (u32, u32),
     labels: &[&str],
-    occupied: impl Iterator<Item = (f64, f64)> + Clone,
+    occupied: impl Iterator<Item = Occupied> + Clone,
 ) -> SeriesLabelPosition {
     let (x, y) = frame;
     let longest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0) as f64;
-    // the box with its marker, padding and plotters' margin from the frame
-    let (box_w, box_h) = (
-        50.0 + LEGEND_PX_PER_CHAR * longest,
-        20.0 + LEGEND_ROW_PX * labels.len() as f64,
-    );
-    let fx = (box_w / f64::from(area_px.0.max(1))).min(1.0);
-    let fy = (box_h / f64::from(area_px.1.max(1))).min(1.0);
-    let (wx, wy) = (fx * (x.1 - x.0), fy * (y.1 - y.0));
-    let corners = [
-        (
-            SeriesLabelPosition::UpperRight,
-            x.1 - wx,
-            x.1,
-            y.1 - wy,
-            y.1,
-        ),
-        (SeriesLabelPosition::UpperLeft, x.0, x.0 + wx, y.1 - wy, y.1),
-        (
-            SeriesLabelPosition::LowerRight,
-            x.1 - wx,
-            x.1,
-            y.0,
-            y.0 + wy,
-        ),
-        (SeriesLabelPosition::LowerLeft, x.0, x.0 + wx, y.0, y.0 + wy),
-    ];
-    let covered = |&(_, x0, x1, y0, y1): &(SeriesLabelPosition, f64, f64, f64, f64)| {
+    // the box with its marker, padding and plotters' margin from the frame, as a share of the
+    // plotting area's span in data units
+    let wx = ((50.0 + LEGEND_PX_PER_CHAR * longest) / f64::from(area_px.0.max(1))).min(1.0)
+        * (x.1 - x.0);
+    let wy = ((20.0 + LEGEND_ROW_PX * labels.len() as f64) / f64::from(area_px.1.max(1))).min(1.0)
+        * (y.1 - y.0);
+    // the span `w` wide at the high or the low end of `(lo, hi)`
+    let end =
+        |(lo, hi): (f64, f64), w: f64, high: bool| if high { (hi - w, hi) } else { (lo, lo + w) };
+    let covered = |right: bool, upper: bool| {
+        let ((bx0, bx1), (by0, by1)) = (end(*x, wx, right), end(*y, wy, upper));
         occupied
             .clone()
-            .filter(|&(px, py)| px >= x0 && px <= x1 && py >= y0 && py <= y1)
+            .filter(|&(x0, x1, y0, y1)| x0 <= bx1 && x1 >= bx0 && y0 <= by1 && y1 >= by0)
             .count()
     };
-    // (min_by_key keeps the first of equals: the order above is the preference)
-    corners
-        .iter()
-        .min_by_key(|c| covered(c))
-        .map_or(SeriesLabelPosition::UpperRight, |c| c.0.clone())
+    // (min_by_key keeps the first of equals: the order is the preference)
+    [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ]
+    .into_iter()
+    .min_by_key(|(_, right, upper)| covered(*right, *upper))
+    .map_or(SeriesLabelPosition::UpperRight, |c| c.0)
 }
 
 /// A line chart `height` px high.
@@ -158,7 +164,7 @@ pub fn lines(height: u32, frame: &Frame, lines: &[Line]) -> Result<String> {
             (&frame.x, &frame.y),
             c.plotting_area().dim_in_pixel(),
             &labels,
-            lines.iter().flat_map(|l| l.points.iter().copied()),
+            lines.iter().flat_map(|l| segments(&l.points)),
         );
         c.configure_series_labels()
             .position(corner)
@@ -291,21 +297,19 @@ pub fn bars(
         }
         let mut labels: Vec<&str> = series.iter().map(|s| s.label).collect();
         labels.extend(floor.map(|_| "noise floor"));
-        // each bar as points up its middle, ten to a bar: what the legend must not cover
-        let bar_points = series.iter().enumerate().flat_map(|(j, s)| {
-            s.values.iter().enumerate().flat_map(move |(i, v)| {
-                let x = i as f64 - 0.4 + (j as f64 + 0.45) * w;
-                (0..=10).map(move |k| (x, v * k as f64 / 10.0))
+        // each bar as drawn, and the floor's line
+        let bar_boxes = series.iter().enumerate().flat_map(|(j, s)| {
+            s.values.iter().enumerate().map(move |(i, v)| {
+                let x0 = i as f64 - 0.4 + j as f64 * w;
+                (x0, x0 + w * 0.9, v.min(0.0), v.max(0.0))
             })
         });
-        let floor_points = floor
-            .into_iter()
-            .flat_map(|f| (0..=20).map(move |k| (-0.5 + n * k as f64 / 20.0, f)));
+        let floor_line = floor.map(|f| (-0.5, n - 0.5, f, f));
         let corner = quiet_corner(
             (&(-0.5, n - 0.5), &(y0, y1)),
             c.plotting_area().dim_in_pixel(),
             &labels,
-            bar_points.chain(floor_points),
+            bar_boxes.chain(floor_line),
         );
         c.configure_series_labels()
             .position(corner)
@@ -476,17 +480,27 @@ mod tests {
     }
 
     /// The legend goes to a corner the data leave free: the upper right when it is free, else
-    /// the next free corner; with a trace through the upper right, not there.
+    /// the next free corner; with a trace or a steep jump through the upper right, not there.
     #[test]
     fn the_legend_takes_a_corner_the_data_leave_free() {
         let (x, y) = ((0.0, 10.0), (0.0, 10.0));
         let labels = ["measured", "first model"];
         let corner =
-            |pts: &[(f64, f64)]| quiet_corner((&x, &y), (800, 400), &labels, pts.iter().copied());
+            |pts: &[(f64, f64)]| quiet_corner((&x, &y), (800, 400), &labels, segments(pts));
         assert!(matches!(
-            corner(&[(5.0, 5.0)]),
+            corner(&[(4.0, 5.0), (6.0, 5.0)]),
             SeriesLabelPosition::UpperRight
         ));
+        // a spike beyond the frame through the upper right, no sample inside it: not there
+        let spike = [
+            (0.0, 5.0),
+            (9.6, 5.0),
+            (9.7, 2.0),
+            (9.7, 11.0),
+            (9.8, 5.0),
+            (10.0, 5.0),
+        ];
+        assert!(matches!(corner(&spike), SeriesLabelPosition::UpperLeft));
         // a trace along the top right: the upper left is free
         let top_right: Vec<(f64, f64)> = (0..50).map(|k| (5.0 + 0.1 * k as f64, 9.8)).collect();
         assert!(matches!(corner(&top_right), SeriesLabelPosition::UpperLeft));

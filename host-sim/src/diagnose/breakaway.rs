@@ -322,9 +322,8 @@ impl Breakaway {
         if n < MIN_DEPARTURES {
             return None;
         }
-        let r1 = candidate_peak_rss;
-        Some(if current_peak_rss > 0.0 && r1 > 0.0 {
-            n as f64 * (current_peak_rss / r1).ln()
+        Some(if current_peak_rss > 0.0 && candidate_peak_rss > 0.0 {
+            n as f64 * (current_peak_rss / candidate_peak_rss).ln()
         } else {
             0.0
         })

@@ -2127,8 +2127,8 @@ fn judge(
     }
     let k = own.len() + usize::from(info.nonlinear.is_some());
     let sliding = n_eff * (current.fit.rss / fit.rss).ln() - k as f64 * n_eff.ln();
-    // the breakaway peaks count once there are enough of them to be more than anecdote
-    // the candidate's breakaway peaks, weighed against the current model and the dwell twin
+    // the breakaway peaks (weighed against the current model, and below against the dwell
+    // twin) count once there are enough of them to be more than anecdote
     let peak_rss = brk.peak_rss(&fit.prediction);
     let peaks = brk.counted_peak_dbic(current.peak_rss, peak_rss);
     let dbic = sliding + peaks.unwrap_or(0.0);
