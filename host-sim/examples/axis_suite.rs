@@ -48,11 +48,12 @@ use std::path::Path;
 /// The never-run checks: sets registered before they first ran, run once, and no rule or
 /// constant changed on their evidence (session, effect-free seeds as `(first, count)` runs,
 /// effect seed offset, records per effect). Each has 30 effect-free records (session 45's, 20)
-/// and, per effect `k` in [`EFFECTS`]' order, 5 (sessions 45 and 52, 10) from `20 000 + 100 k +
-/// offset` (session 52's from 32 000: the 20 000 range was used up). Session 34's set (740..,
-/// offset 45) is not one: session 35 studied its dwell miss 20745. Session 44's effect-free
-/// seeds skip 1000..1009, the axes of the calibration's first effect. With `--shapes b` the same command runs [`NEVER_RUN_B`] instead.
-const NEVER_RUN: [NeverRun; 10] = [
+/// and, per effect `k` in [`EFFECTS`]' order, 5 (sessions 45, 52 and 53, 10) from `20 000 +
+/// 100 k + offset` (sessions 52 and 53 from 32 000: the 20 000 range was used up). Session 34's
+/// set (740.., offset 45) is not one: session 35 studied its dwell miss 20745. Session 44's
+/// effect-free seeds skip 1000..1009, the axes of the calibration's first effect. With
+/// `--shapes b` the same command runs [`NEVER_RUN_B`] instead.
+const NEVER_RUN: [NeverRun; 11] = [
     ("never-run s35", &[(770, 30)], 50, 5),
     ("never-run s38", &[(800, 30)], 55, 5),
     ("never-run s39", &[(830, 30)], 60, 5),
@@ -63,6 +64,7 @@ const NEVER_RUN: [NeverRun; 10] = [
     ("never-run s44", &[(980, 20), (2100, 10)], 85, 5),
     ("never-run s45", &[(2110, 20)], 90, 10),
     ("never-run s52", &[(2370, 30)], 12_000, 10),
+    ("never-run s53", &[(2400, 30)], 12_010, 10),
 ];
 
 /// The never-run checks of family B's shapes (`--unseen --shapes b`;
