@@ -215,8 +215,13 @@ pub fn scatter_panels(height: u32, panels: &[Panel]) -> Result<String> {
 /// the SVG) \[px\], generous.
 const BAR_NAME_PX_PER_CHAR: f64 = 5.5;
 
+/// Room under a bar chart's axis that its height already holds for the category names \[px\]:
+/// longer names make the chart taller, not the bars shorter.
+const BAR_NAME_BAND_PX: u32 = 90;
+
 /// Grouped bars over named categories, with an optional horizontal reference line (a noise
-/// floor), `height` px high.
+/// floor), `height` px high with names up to `BAR_NAME_BAND_PX` long when turned, and taller
+/// by what longer names need.
 pub fn bars(
     height: u32,
     title: &str,
@@ -225,6 +230,16 @@ pub fn bars(
     series: &[Bars],
     floor: Option<f64>,
 ) -> Result<String> {
+    // the rotated category names hang down from the axis: room for the longest, so that
+    // none runs off the chart or up into the bars
+    let longest = categories
+        .iter()
+        .map(|c| c.chars().count())
+        .max()
+        .unwrap_or(0);
+    let label_area =
+        ((longest as f64 * BAR_NAME_PX_PER_CHAR + 16.0).ceil() as u32).max(BAR_NAME_BAND_PX);
+    let height = height + (label_area - BAR_NAME_BAND_PX);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
@@ -238,16 +253,6 @@ pub fn bars(
         );
         y0 = y0.min(0.0);
         let n = categories.len() as f64;
-        // the rotated category names hang down from the axis: room for the longest, so that
-        // none runs off the chart or up into the bars
-        let longest = categories
-            .iter()
-            .map(|c| c.chars().count())
-            .max()
-            .unwrap_or(0);
-        let label_area = (longest as f64 * BAR_NAME_PX_PER_CHAR + 16.0)
-            .max(90.0)
-            .min(0.5 * height as f64) as u32;
         let mut c = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 18))
             .margin(10)
@@ -511,24 +516,41 @@ mod tests {
 
     /// A bar chart's category names hang down from the axis, starting just below it, never
     /// centred on it (a long one then ran up into the bars and its start was hidden), and the
-    /// chart keeps room for the longest.
+    /// chart grows to hold the longest (a regime's name with its range, 38 characters, ran
+    /// off the bottom when the names' band was capped at half the chart).
     #[test]
     fn bar_names_start_below_the_axis() {
-        let long = "baseline (symmetric LuGre)".to_string();
-        let svg = bars(
-            360,
-            "t",
-            "error [%]",
-            &[long.clone(), "+ offset".into()],
-            &[Bars {
-                label: "error",
-                color: MEASURED,
-                values: vec![3.0, 1.0],
-            }],
-            None,
-        )
-        .unwrap();
-        let at = svg.find(&long).expect("the name is drawn");
+        for long in [
+            "baseline (symmetric LuGre)",
+            "at oil temperature 23.456..45.678 degC",
+        ] {
+            let svg = bars(
+                360,
+                "t",
+                "error [%]",
+                &[long.to_string(), "+ offset".into()],
+                &[Bars {
+                    label: "error",
+                    color: MEASURED,
+                    values: vec![3.0, 1.0],
+                }],
+                None,
+            )
+            .unwrap();
+            name_below_axis_and_inside(&svg, long);
+        }
+        // a short name keeps the chart's height
+        let svg = bars(360, "t", "e", &["a".into()], &[], None).unwrap();
+        assert_eq!(svg_height(&svg), 360.0);
+    }
+
+    fn svg_height(svg: &str) -> f64 {
+        let i = svg.find(" height=\"").unwrap() + " height=\"".len();
+        svg[i..].split('"').next().unwrap().parse().unwrap()
+    }
+
+    fn name_below_axis_and_inside(svg: &str, long: &str) {
+        let at = svg.find(long).expect("the name is drawn");
         let tag = &svg[svg[..at].rfind("<text").unwrap()..at];
         assert!(tag.contains("text-anchor=\"start\""), "{tag}");
         let number = |key: &str| -> f64 {
@@ -552,7 +574,7 @@ mod tests {
             .fold(f64::NEG_INFINITY, f64::max);
         assert!(y > axis && y < axis + 20.0, "name at {y}, axis at {axis}");
         assert!(
-            y + BAR_NAME_PX_PER_CHAR * long.len() as f64 <= 360.0,
+            y + BAR_NAME_PX_PER_CHAR * long.len() as f64 <= svg_height(svg),
             "name at {y} runs off the chart"
         );
     }

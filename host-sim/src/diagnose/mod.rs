@@ -3,7 +3,7 @@
 //!
 //! Data path: [`Record`] -> [`inverse::Prepared`] (filtered motion, inverse-model force) ->
 //! model along the measured motion -> residual -> [`regimes`] and candidate effects
-//! ([`rank_candidates`]) -> refit with the chosen effect -> report.
+//! (each [`Stage`]'s ranked [`Candidate`]s) -> refit with the chosen effect -> report.
 //!
 //! **Scoring.** A candidate effect extends the current model with its few parameters and is
 //! refitted ([`fit::refit`]). It is scored with the Bayesian information criterion on the
@@ -1134,8 +1134,7 @@ fn refine(
 
 /// The practitioners' static table as a LuGre model (`Fs = Fc`, stiff contact, vs at its
 /// prior): where every baseline search starts, so that none can end worse than the table.
-pub fn static_seed(p: &Prepared, fixed_mass: Option<f64>) -> AxisModel {
-    let table = static_table::fit(p, fixed_mass).symmetric;
+pub fn static_seed(p: &Prepared, table: &static_table::StaticFit) -> AxisModel {
     let floor = 1e-3 * p.max_abs_force.max(1e-9);
     let fc = table
         .coulomb_forward_n
@@ -1180,7 +1179,8 @@ fn baseline_searched(p: &Prepared, opts: &Options, n_eff: f64, search: Search) -
         };
         return fit::refit(&plain, p, fixed_mass, n_eff);
     }
-    let seeded = fit::refit(&static_seed(p, fixed_mass), p, fixed_mass, n_eff);
+    let table = static_table::fit(p, fixed_mass).symmetric;
+    let seeded = fit::refit(&static_seed(p, &table), p, fixed_mass, n_eff);
     polish(&seeded, None, p, fixed_mass, n_eff, search)
 }
 
@@ -1418,7 +1418,7 @@ fn regrid_effect(
     })
 }
 
-/// How many leading candidates [`rank_candidates`] re-judges after their nonlinear parameters
+/// How many leading candidates a stage's ranking re-judges after their nonlinear parameters
 /// have moved (usize::MAX: all).
 pub const POLISHED_LEADERS: usize = 5;
 
@@ -1441,12 +1441,40 @@ struct Current<'a> {
 }
 
 impl<'a> Current<'a> {
-    fn new(fit: &'a Fit, brk: &Breakaway, p: &Prepared) -> Self {
+    fn new(fit: &'a Fit, on: &Scope) -> Self {
         Self {
             fit,
-            peak_rss: brk.peak_rss(&fit.prediction),
-            weight_sum: p.scored_weight().max(1.0),
+            peak_rss: on.brk.peak_rss(&fit.prediction),
+            weight_sum: on.p.scored_weight().max(1.0),
         }
+    }
+}
+
+/// The record a stage's fits and judgements work on, the same for all of them: built once per
+/// diagnosis, after the motion weights are set, and handed down the ranking whole.
+#[derive(Clone, Copy)]
+struct Scope<'a> {
+    /// The prepared record (filtered, weighted).
+    p: &'a Prepared,
+    /// Its breakaway events.
+    brk: &'a Breakaway,
+    /// The moving mass the user gave \[kg\], if any.
+    fixed_mass: Option<f64>,
+    /// Effective independent samples ([`fit::effective_samples`]).
+    n_eff: f64,
+    /// Its static tables, fitted once ([`static_table::fit`]).
+    tables: &'a static_table::StaticTables,
+}
+
+impl Scope<'_> {
+    /// `m`'s linear parameters refitted to the record ([`fit::refit`]).
+    fn refit(&self, m: &AxisModel) -> Fit {
+        fit::refit(m, self.p, self.fixed_mass, self.n_eff)
+    }
+
+    /// `f` searched on the record ([`polish`]).
+    fn polish(&self, f: &Fit, effect: Option<EffectKind>, search: Search) -> Fit {
+        polish(f, effect, self.p, self.fixed_mass, self.n_eff, search)
     }
 }
 
@@ -1454,20 +1482,11 @@ impl<'a> Current<'a> {
 /// effect whose model contains a simpler significant one as a special case ([`NESTED`]) stays
 /// significant only if it is so on top of the simpler one (`prefer_nested`). The two parts'
 /// times are added to `times` (candidates and nested check).
-pub fn rank_candidates(
-    p: &Prepared,
-    brk: &Breakaway,
-    current: &Fit,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-    times: &mut PhaseTimes,
-) -> Vec<Candidate> {
+fn rank_candidates(on: &Scope, current: &Fit, times: &mut PhaseTimes) -> Vec<Candidate> {
     let mut out = timed(&mut times.candidates_s, || {
-        rank_among(p, brk, current, fixed_mass, n_eff, None, Vec::new())
+        rank_among(on, current, None, Vec::new())
     });
-    timed(&mut times.nested_s, || {
-        prefer_nested(&mut out, p, brk, fixed_mass, n_eff)
-    });
+    timed(&mut times.nested_s, || prefer_nested(&mut out, on));
     out
 }
 
@@ -1485,17 +1504,13 @@ pub const FITTED_BEFORE_RESTART: &str =
 /// earlier start ([`Candidate::fitted_before_restart`]). All are judged again against the new
 /// model. (A whole second ranking cost 2.4 s of a 60 s record's 6.5 s; the better start only
 /// lowers the reference the others were not significant against.)
-#[allow(clippy::too_many_arguments)]
 fn rank_after_restart(
-    p: &Prepared,
-    brk: &Breakaway,
+    on: &Scope,
     current: &Fit,
     before: Vec<Candidate>,
     revealed_by: EffectKind,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
 ) -> Vec<Candidate> {
-    let reference = Current::new(current, brk, p);
+    let reference = Current::new(current, on);
     let carried = before
         .into_par_iter()
         .map(|mut c| {
@@ -1513,19 +1528,18 @@ fn rank_after_restart(
                 .friction
                 .effects
                 .with_kind_of(c.kind, &old.model.friction.effects);
-            let mut moved = fit::refit(&m, p, fixed_mass, n_eff);
+            let mut moved = on.refit(&m);
             if moved.rss < old.rss {
                 moved.flags = old.flags.clone();
                 let info = effect_info(c.kind);
-                c.rest_null =
-                    rest_independent_twin(p, fixed_mass, brk, info, &reference, &moved, n_eff);
+                c.rest_null = rest_independent_twin(on, info, &reference, &moved);
                 c.fit = Some(moved);
             }
             c
         })
         .collect();
-    let mut out = rank_among(p, brk, current, fixed_mass, n_eff, None, carried);
-    prefer_nested(&mut out, p, brk, fixed_mass, n_eff);
+    let mut out = rank_among(on, current, None, carried);
+    prefer_nested(&mut out, on);
     out
 }
 
@@ -1544,19 +1558,13 @@ pub const NESTED: [(EffectKind, EffectKind); 1] = [(EffectKind::Asymmetry, Effec
 /// from the current model, the two were often judged on fits that had not converged: on an
 /// independent offset record the asymmetry candidate scored 1.38 % against the offset's
 /// 1.67 %, fitted as stages 1.17 % against 0.57 %.)
-fn prefer_nested(
-    out: &mut [Candidate],
-    p: &Prepared,
-    brk: &Breakaway,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) {
+fn prefer_nested(out: &mut [Candidate], on: &Scope) {
     let Some(first) = out.iter().position(|c| c.significant) else {
         return;
     };
     for (larger, nested) in NESTED {
         if out[first].kind == nested {
-            larger_on_top(out, first, (larger, nested), p, brk, fixed_mass, n_eff);
+            larger_on_top(out, first, (larger, nested), on);
             continue;
         }
         if out[first].kind != larger {
@@ -1578,8 +1586,8 @@ fn prefer_nested(
         {
             continue;
         }
-        let with_nested = stage_fit(nested, simpler, model_start, p, fixed_mass, n_eff);
-        let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
+        let with_nested = stage_fit(nested, simpler, model_start, on);
+        let on_top = rank_one(larger, on, &with_nested);
         let check = NestedCheck::new(larger, nested, &with_nested, on_top.as_ref());
         out[j].nested_check = Some(check);
         if let Some(c) = on_top.filter(|c| !c.significant) {
@@ -1613,10 +1621,7 @@ fn larger_on_top(
     out: &mut [Candidate],
     first: usize,
     (larger, nested): (EffectKind, EffectKind),
-    p: &Prepared,
-    brk: &Breakaway,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
+    on: &Scope,
 ) {
     let Some(simpler) = out[first].fit.as_ref() else {
         return;
@@ -1629,8 +1634,8 @@ fn larger_on_top(
     // 20137 ended at 0.52 % where the stage ends at 0.31 % (the truth 0.36 %), and asymmetry
     // on top cut the difference, a third of the error; the candidate's start alone (one round
     // or two) read calibration offset records as asymmetry (5 of 30, 1 of 30)
-    let with_nested = stage_fit(nested, simpler, model_start, p, fixed_mass, n_eff);
-    let on_top = rank_one(larger, p, brk, &with_nested, fixed_mass, n_eff);
+    let with_nested = stage_fit(nested, simpler, model_start, on);
+    let on_top = rank_one(larger, on, &with_nested);
     let s = &mut out[first];
     let check = NestedCheck::new(larger, nested, &with_nested, on_top.as_ref());
     s.nested_check = Some(check);
@@ -1676,14 +1681,7 @@ pub const SETTLED_AS_STAGE: &str =
 /// 6.2 s without the settlement, on a machine where most records take 5..6 s). The effects of
 /// a nested pair ([`NESTED`]) are never rivals: their check (`prefer_nested`) ran for the first
 /// significant candidate only.
-fn settle_close_call(
-    out: &mut [Candidate],
-    p: &Prepared,
-    brk: &Breakaway,
-    current: &Fit,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) {
+fn settle_close_call(out: &mut [Candidate], on: &Scope, current: &Fit) {
     let Some(lead) = out.iter().position(|c| c.significant) else {
         return;
     };
@@ -1703,19 +1701,9 @@ fn settle_close_call(
     if contenders.len() < 2 {
         return;
     }
-    let reference = Current::new(current, brk, p);
-    let n_c = verdict_samples(out, p, n_eff);
-    polish_again(
-        out,
-        &contenders,
-        Search::STAGE,
-        p,
-        brk,
-        &reference,
-        fixed_mass,
-        n_eff,
-        n_c,
-    );
+    let reference = Current::new(current, on);
+    let n_c = verdict_samples(out, on);
+    polish_again(out, &contenders, Search::STAGE, on, &reference, n_c);
     for &i in &contenders {
         out[i].settled_as_stage = true;
     }
@@ -1735,28 +1723,25 @@ fn by_bic(a: &Candidate, b: &Candidate) -> std::cmp::Ordering {
 /// bandwidth count alone lets slow model mismatch pass for evidence; judging each candidate on
 /// its own residual ranked a better fit below a worse one (a residual with less structure left
 /// can have a longer autocorrelation time).
-fn verdict_samples(out: &[Candidate], p: &Prepared, n_eff: f64) -> f64 {
+fn verdict_samples(out: &[Candidate], on: &Scope) -> f64 {
     out.iter()
         .filter_map(|c| c.model_start.as_ref().or(c.fit.as_ref()))
         .min_by(|a, b| a.rss.total_cmp(&b.rss))
-        .map_or(n_eff, |f| {
-            n_eff.min(fit::residual_effective_samples(p, &f.prediction))
+        .map_or(on.n_eff, |f| {
+            on.n_eff
+                .min(fit::residual_effective_samples(on.p, &f.prediction))
         })
 }
 
 /// The candidates at `which` searched again ([`polish`] with `search`), side by
 /// side; each fit kept where it scores better and judged again against `reference` on `n_judge`
 /// effective samples.
-#[allow(clippy::too_many_arguments)]
 fn polish_again(
     out: &mut [Candidate],
     which: &[usize],
     search: Search,
-    p: &Prepared,
-    brk: &Breakaway,
+    on: &Scope,
     reference: &Current,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
     n_judge: f64,
 ) {
     let polished: Vec<(usize, Fit)> = which
@@ -1764,16 +1749,16 @@ fn polish_again(
         .filter_map(|&i| {
             let f = out[i].fit.as_ref()?;
             let kind = out[i].kind;
-            Some((i, polish(f, Some(kind), p, fixed_mass, n_eff, search)))
+            Some((i, on.polish(f, Some(kind), search)))
         })
         .collect();
     for (i, f) in polished {
         let c = &out[i];
         if c.fit.as_ref().is_some_and(|g| f.rss < g.rss) {
             let info = effect_info(c.kind);
-            let rest_null = rest_independent_twin(p, fixed_mass, brk, info, reference, &f, n_eff);
+            let rest_null = rest_independent_twin(on, info, reference, &f);
             let (params, nl) = (c.parameters.clone(), c.nonlinear_excludes_null);
-            let judged = judge(brk, reference, info, f, params, nl, rest_null, n_judge);
+            let judged = judge(on.brk, reference, info, f, params, nl, rest_null, n_judge);
             out[i] = Candidate {
                 fitted_before_restart: c.fitted_before_restart,
                 from_static_table: c.from_static_table,
@@ -1789,15 +1774,8 @@ fn polish_again(
 
 /// Effect `e` alone scored, polished and judged against `current` as [`rank_among`] does
 /// (`None` where `current` has it already).
-fn rank_one(
-    e: EffectKind,
-    p: &Prepared,
-    brk: &Breakaway,
-    current: &Fit,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) -> Option<Candidate> {
-    rank_among(p, brk, current, fixed_mass, n_eff, Some(e), Vec::new())
+fn rank_one(e: EffectKind, on: &Scope, current: &Fit) -> Option<Candidate> {
+    rank_among(on, current, Some(e), Vec::new())
         .into_iter()
         .next()
 }
@@ -1805,24 +1783,20 @@ fn rank_one(
 /// [`rank_candidates`] without the parsimony between nested effects, of every effect not yet
 /// in `current` or of `only` that one. The `carried` candidates are neither scored nor
 /// polished: their fits are judged against `current` with the others.
-#[allow(clippy::too_many_arguments)]
 fn rank_among(
-    p: &Prepared,
-    brk: &Breakaway,
+    on: &Scope,
     current: &Fit,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
     only: Option<EffectKind>,
     carried: Vec<Candidate>,
 ) -> Vec<Candidate> {
-    let reference = Current::new(current, brk, p);
+    let reference = Current::new(current, on);
     let carried_kinds: Vec<EffectKind> = carried.iter().map(|c| c.kind).collect();
     let mut out: Vec<Candidate> = EFFECTS
         .par_iter()
         .filter(|e| !current.model.friction.effects.has(e.kind))
         .filter(|e| only.is_none_or(|k| k == e.kind))
         .filter(|e| !carried_kinds.contains(&e.kind))
-        .map(|info| score(p, brk, &reference, info, fixed_mass, n_eff))
+        .map(|info| score(on, &reference, info))
         .collect();
     // a dwell twin stands in for the rest-independent null only where it beats the model
     // judged against (`rest_independent_twin`)
@@ -1850,25 +1824,15 @@ fn rank_among(
         })
         .take(POLISHED_LEADERS)
         .collect();
-    polish_again(
-        &mut out,
-        &leaders,
-        Search::LEADER,
-        p,
-        brk,
-        &reference,
-        fixed_mass,
-        n_eff,
-        n_eff,
-    );
+    polish_again(&mut out, &leaders, Search::LEADER, on, &reference, on.n_eff);
     // the leader after the polish (by_bic puts the most evidence first)
     let leader = leaders
         .iter()
         .copied()
         .min_by(|&a, &b| by_bic(&out[a], &out[b]));
-    table_start(&mut out, leader, p, brk, &reference, fixed_mass, n_eff);
+    table_start(&mut out, leader, on, &reference);
     // Final verdict for every candidate, on one yardstick
-    let n_c = verdict_samples(&out, p, n_eff);
+    let n_c = verdict_samples(&out, on);
     let judged: Vec<Candidate> = out
         .par_iter()
         .map(|c| match &c.fit {
@@ -1877,7 +1841,7 @@ fn rank_among(
                 from_static_table: c.from_static_table,
                 model_start: c.model_start.clone(),
                 ..judge(
-                    brk,
+                    on.brk,
                     &reference,
                     effect_info(c.kind),
                     f.clone(),
@@ -1895,14 +1859,14 @@ fn rank_among(
     out
 }
 
-fn score(
-    p: &Prepared,
-    brk: &Breakaway,
-    current: &Current,
-    info: &EffectInfo,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) -> Candidate {
+fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
+    let Scope {
+        p,
+        brk,
+        fixed_mass,
+        n_eff,
+        ..
+    } = *on;
     let mut cand = Candidate {
         kind: info.kind,
         meaning: info.meaning.into(),
@@ -1978,7 +1942,7 @@ fn score(
             let Some((x, f, profile)) = best else {
                 unreachable!("at least one shape value is searched")
             };
-            let f = fit::refit(&f.model, p, fixed_mass, n_eff);
+            let f = on.refit(&f.model);
             // the profile interval from the grid's own (quick) residuals
             let (lo, hi, inside) = profile_interval(&profile, n_eff, x);
             let excludes_null = null.is_some_and(|z| {
@@ -2006,16 +1970,11 @@ fn score(
             (f, excludes_null)
         }
         None => (
-            fit::refit(
-                &fit::add_effect(&current.fit.model, info.kind, p, 0.0),
-                p,
-                fixed_mass,
-                n_eff,
-            ),
+            on.refit(&fit::add_effect(&current.fit.model, info.kind, p, 0.0)),
             false,
         ),
     };
-    let rest_null = rest_independent_twin(p, fixed_mass, brk, info, current, &fit, n_eff);
+    let rest_null = rest_independent_twin(on, info, current, &fit);
     judge(
         brk,
         current,
@@ -2249,14 +2208,12 @@ pub struct DwellEvidence {
 /// growth with the rest (on calibration record 106 a twin at 0.57 % against the current
 /// model's 0.25 %).
 fn rest_independent_twin(
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    brk: &Breakaway,
+    on: &Scope,
     info: &EffectInfo,
     current: &Current,
     fit: &Fit,
-    n_eff: f64,
 ) -> Option<RestNull> {
+    let brk = on.brk;
     if info.kind != EffectKind::DwellStiction || brk.ignored || brk.untestable.is_some() {
         return None;
     }
@@ -2267,7 +2224,7 @@ fn rest_independent_twin(
         ..d
     });
     // (n_eff sets only the standard errors, not the fit)
-    let null = fit::refit(&null, p, fixed_mass, n_eff);
+    let null = on.refit(&null);
     Some(
         RestNull {
             rss: null.rss,
@@ -2518,9 +2475,14 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         spread.unwrap_or_else(|| prediction_spread(rec, name, protocol, &p, &base.model).1);
     // scored like a model's error over the moving samples counted alike
     let motion_spread_pct = p.plain_pct(|i| spread[i]);
-    let mut stages = vec![stage(
-        None, base, &p, &brk, fixed_mass, n_eff, true, &mut times,
-    )];
+    let on = Scope {
+        p: &p,
+        brk: &brk,
+        fixed_mass,
+        n_eff,
+        tables: &tables,
+    };
+    let mut stages = vec![stage(None, base, &on, true, &mut times)];
     // the effects asked for, then (with `auto`) the first significant candidate each time
     for k in 0..add.len() + opts.auto {
         let e = match add.get(k) {
@@ -2549,27 +2511,11 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
                 (Some(_), _) => fit.clone(),
                 // the ranking's parsimony check already fitted it as a stage
                 (None, Some(staged)) => staged.clone(),
-                (None, None) => stage_fit(
-                    e,
-                    fit,
-                    candidate.model_start.as_ref(),
-                    &p,
-                    fixed_mass,
-                    n_eff,
-                ),
+                (None, None) => stage_fit(e, fit, candidate.model_start.as_ref(), &on),
             }
         });
         let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);
-        stages.push(stage(
-            Some(e),
-            fit,
-            &p,
-            &brk,
-            fixed_mass,
-            n_eff,
-            rank,
-            &mut times,
-        ));
+        stages.push(stage(Some(e), fit, &on, rank, &mut times));
     }
     let last = &stages[stages.len() - 1].fit;
     // a contact is tried only where there is something beyond the measurement to describe
@@ -2676,22 +2622,11 @@ pub fn prepare(
 /// fit is the table's ([`table_start`]), its fit from the previous model is a third start: with
 /// two table starts only, never-run asymmetry record 20001 ended at 0.96 % where the stage
 /// from the model reaches 0.60 % (session 48).
-fn stage_fit(
-    e: EffectKind,
-    candidate: &Fit,
-    model_start: Option<&Fit>,
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) -> Fit {
+fn stage_fit(e: EffectKind, candidate: &Fit, model_start: Option<&Fit>, on: &Scope) -> Fit {
+    let stage_search = |f: &Fit| on.polish(f, Some(e), Search::STAGE);
     let ((from_candidate, from_model), from_table) = rayon::join(
-        || {
-            rayon::join(
-                || polish(candidate, Some(e), p, fixed_mass, n_eff, Search::STAGE),
-                || model_start.map(|f| polish(f, Some(e), p, fixed_mass, n_eff, Search::STAGE)),
-            )
-        },
-        || from_static_table(e, candidate, p, fixed_mass, n_eff),
+        || rayon::join(|| stage_search(candidate), || model_start.map(stage_search)),
+        || from_static_table(e, candidate, on),
     );
     // the candidate's start wins ties, as it did before the third start
     let mut best = from_candidate;
@@ -2719,15 +2654,12 @@ const MAX_RESTARTS: usize = 2;
 /// ([`rank_after_restart`]): the model and its candidates.
 fn rank_from_best_start(
     fit: Fit,
-    p: &Prepared,
-    brk: &Breakaway,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
+    on: &Scope,
     times: &mut PhaseTimes,
 ) -> (Fit, Vec<Candidate>, Vec<Restart>) {
-    let candidates = rank_candidates(p, brk, &fit, fixed_mass, n_eff, times);
+    let candidates = rank_candidates(on, &fit, times);
     timed(&mut times.restarts_s, || {
-        restart_from_better_starts(fit, candidates, p, brk, fixed_mass, n_eff)
+        restart_from_better_starts(fit, candidates, on)
     })
 }
 
@@ -2736,10 +2668,7 @@ fn rank_from_best_start(
 fn restart_from_better_starts(
     mut fit: Fit,
     mut candidates: Vec<Candidate>,
-    p: &Prepared,
-    brk: &Breakaway,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
+    on: &Scope,
 ) -> (Fit, Vec<Candidate>, Vec<Restart>) {
     let mut restarts = Vec::new();
     for _ in 0..MAX_RESTARTS {
@@ -2749,7 +2678,7 @@ fn restart_from_better_starts(
             .filter_map(|c| {
                 let mut m = c.fit.as_ref()?.model;
                 m.friction.effects = m.friction.effects.without(c.kind);
-                Some((fit::refit(&m, p, fixed_mass, n_eff), c.kind))
+                Some((on.refit(&m), c.kind))
             })
             .filter(|(f, _)| f.rel_err_pct <= (1.0 - BETTER_START_CUT) * fit.rel_err_pct)
             .min_by(|a, b| a.0.rss.total_cmp(&b.0.rss));
@@ -2757,14 +2686,14 @@ fn restart_from_better_starts(
             break;
         };
         better.flags = fit.flags.clone();
-        mark_unidentified_linear(&mut better, p, fixed_mass, n_eff);
+        mark_unidentified_linear(&mut better, on.p, on.fixed_mass, on.n_eff);
         restarts.push(Restart {
             revealed_by,
             from_rel_err_pct: fit.rel_err_pct,
             to_rel_err_pct: better.rel_err_pct,
         });
         fit = better;
-        candidates = rank_after_restart(p, brk, &fit, candidates, revealed_by, fixed_mass, n_eff);
+        candidates = rank_after_restart(on, &fit, candidates, revealed_by);
     }
     (fit, candidates, restarts)
 }
@@ -2793,16 +2722,8 @@ pub const TABLE_SPANNED: [EffectKind; 2] = [EffectKind::Offset, EffectKind::Asym
 /// Session 48's trigger, the table better than the current model, fired wherever the baseline
 /// lacks an offset or an asymmetry (19 of 180 calibration records, 36 of 60 study records);
 /// this one fired on 2 and 9 (session 49).
-fn table_start(
-    out: &mut [Candidate],
-    leader: Option<usize>,
-    p: &Prepared,
-    brk: &Breakaway,
-    reference: &Current,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) {
-    let table_rss = static_table::fit(p, fixed_mass).asymmetric.rss;
+fn table_start(out: &mut [Candidate], leader: Option<usize>, on: &Scope, reference: &Current) {
+    let table_rss = on.tables.asymmetric.rss;
     let bent = out.iter().any(|c| {
         TABLE_SPANNED.contains(&c.kind) && c.fit.as_ref().is_some_and(|f| f.rss > table_rss)
     });
@@ -2814,22 +2735,14 @@ fn table_start(
         .filter(|&i| leader == Some(i) || TABLE_SPANNED.contains(&out[i].kind))
         .filter_map(|i| {
             let f = out[i].fit.as_ref()?;
-            Some((i, from_static_table(out[i].kind, f, p, fixed_mass, n_eff)))
+            Some((i, from_static_table(out[i].kind, f, on)))
         })
         .collect();
     for (i, f) in from_table {
         let c = &mut out[i];
         if c.fit.as_ref().is_some_and(|g| f.rss < g.rss) {
             // a dwell candidate's rest-independent twin belongs to its fit
-            c.rest_null = rest_independent_twin(
-                p,
-                fixed_mass,
-                brk,
-                effect_info(c.kind),
-                reference,
-                &f,
-                n_eff,
-            );
+            c.rest_null = rest_independent_twin(on, effect_info(c.kind), reference, &f);
             c.model_start = c.fit.replace(f);
             c.from_static_table = true;
         }
@@ -2843,34 +2756,24 @@ pub const FROM_STATIC_TABLE: &str =
 
 /// [`stage_fit`]'s second start: the static table with the candidate's effects, refitted and
 /// searched as a stage is (two rounds, the stiffness too).
-fn from_static_table(
-    e: EffectKind,
-    candidate: &Fit,
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) -> Fit {
-    let mut restart = static_seed(p, fixed_mass);
+fn from_static_table(e: EffectKind, candidate: &Fit, on: &Scope) -> Fit {
+    let mut restart = static_seed(on.p, &on.tables.symmetric);
     restart.friction.effects = candidate.model.friction.effects;
-    let restart = fit::refit(&restart, p, fixed_mass, n_eff);
-    polish(&restart, Some(e), p, fixed_mass, n_eff, Search::STAGE)
+    on.polish(&on.refit(&restart), Some(e), Search::STAGE)
 }
 
 fn stage(
     effect: Option<EffectKind>,
     fit: Fit,
-    p: &Prepared,
-    brk: &Breakaway,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
+    on: &Scope,
     rank: bool,
     times: &mut PhaseTimes,
 ) -> Stage {
+    let p = on.p;
     let (fit, candidates, restarts) = if rank {
-        let (fit, mut candidates, restarts) =
-            rank_from_best_start(fit, p, brk, fixed_mass, n_eff, times);
+        let (fit, mut candidates, restarts) = rank_from_best_start(fit, on, times);
         timed(&mut times.close_calls_s, || {
-            settle_close_call(&mut candidates, p, brk, &fit, fixed_mass, n_eff)
+            settle_close_call(&mut candidates, on, &fit)
         });
         (fit, candidates, restarts)
     } else {
