@@ -96,7 +96,7 @@ fn segments(points: &[(f64, f64)]) -> impl Iterator<Item = Occupied> + Clone + '
 /// the right edge, sat on the force trace). `area_px` is the plotting area's size in pixels;
 /// ties go to the upper right, then the upper left, the lower right, the lower left.
 fn quiet_corner(
-    frame: (&(f64, f64), &(f64, f64)),
+    frame: ((f64, f64), (f64, f64)),
     area_px: (u32, u32),
     labels: &[&str],
     occupied: impl Iterator<Item = Occupied> + Clone,
@@ -113,7 +113,7 @@ fn quiet_corner(
     let end =
         |(lo, hi): (f64, f64), w: f64, high: bool| if high { (hi - w, hi) } else { (lo, lo + w) };
     let covered = |right: bool, upper: bool| {
-        let ((bx0, bx1), (by0, by1)) = (end(*x, wx, right), end(*y, wy, upper));
+        let ((bx0, bx1), (by0, by1)) = (end(x, wx, right), end(y, wy, upper));
         occupied
             .clone()
             .filter(|&(x0, x1, y0, y1)| x0 <= bx1 && x1 >= bx0 && y0 <= by1 && y1 >= by0)
@@ -161,7 +161,7 @@ pub fn lines(height: u32, frame: &Frame, lines: &[Line]) -> Result<String> {
         }
         let labels: Vec<&str> = lines.iter().map(|l| l.label).collect();
         let corner = quiet_corner(
-            (&frame.x, &frame.y),
+            (frame.x, frame.y),
             c.plotting_area().dim_in_pixel(),
             &labels,
             lines.iter().flat_map(|l| segments(&l.points)),
@@ -214,6 +214,9 @@ pub fn scatter_panels(height: u32, panels: &[Panel]) -> Result<String> {
 /// Width of a character of a bar chart's category names as drawn (the 11 px font scaled into
 /// the SVG) \[px\], generous.
 const BAR_NAME_PX_PER_CHAR: f64 = 5.5;
+
+/// A bar chart's reference line's name in its legend.
+const FLOOR_LABEL: &str = "noise floor";
 
 /// Room under a bar chart's axis that its height already holds for the category names \[px\]:
 /// longer names make the chart taller, not the bars shorter.
@@ -281,40 +284,40 @@ pub fn bars(
                 .map_err(err)?;
         }
         let w = 0.8 / series.len().max(1) as f64;
+        // series `j`'s bar over category `i`, as drawn and as the legend must avoid it
+        let bar = move |j: usize, (i, v): (usize, &f64)| -> Occupied {
+            let x0 = i as f64 - 0.4 + j as f64 * w;
+            (x0, x0 + w * 0.9, v.min(0.0), v.max(0.0))
+        };
         for (j, s) in series.iter().enumerate() {
             let color = s.color;
-            c.draw_series(s.values.iter().enumerate().map(|(i, v)| {
-                let x0 = i as f64 - 0.4 + j as f64 * w;
-                Rectangle::new([(x0, 0.0), (x0 + w * 0.9, *v)], color.filled())
+            c.draw_series(s.values.iter().enumerate().map(|iv| {
+                let (x0, x1, lo, hi) = bar(j, iv);
+                Rectangle::new([(x0, lo), (x1, hi)], color.filled())
             }))
             .map_err(err)?
             .label(s.label)
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], color.filled()));
         }
-        if let Some(f) = floor {
-            c.draw_series(LineSeries::new(
-                [(-0.5, f), (n - 0.5, f)],
-                BLACK.stroke_width(2),
-            ))
-            .map_err(err)?
-            .label("noise floor")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        let floor_line = floor.map(|f| [(-0.5, f), (n - 0.5, f)]);
+        if let Some(line) = floor_line {
+            c.draw_series(LineSeries::new(line, BLACK.stroke_width(2)))
+                .map_err(err)?
+                .label(FLOOR_LABEL)
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
         }
         let mut labels: Vec<&str> = series.iter().map(|s| s.label).collect();
-        labels.extend(floor.map(|_| "noise floor"));
-        // each bar as drawn, and the floor's line
-        let bar_boxes = series.iter().enumerate().flat_map(|(j, s)| {
-            s.values.iter().enumerate().map(move |(i, v)| {
-                let x0 = i as f64 - 0.4 + j as f64 * w;
-                (x0, x0 + w * 0.9, v.min(0.0), v.max(0.0))
-            })
-        });
-        let floor_line = floor.map(|f| (-0.5, n - 0.5, f, f));
+        labels.extend(floor.map(|_| FLOOR_LABEL));
+        let bar_boxes = series
+            .iter()
+            .enumerate()
+            .flat_map(|(j, s)| s.values.iter().enumerate().map(move |iv| bar(j, iv)));
+        let floor_boxes = floor_line.iter().flat_map(|line| segments(line));
         let corner = quiet_corner(
-            (&(-0.5, n - 0.5), &(y0, y1)),
+            ((-0.5, n - 0.5), (y0, y1)),
             c.plotting_area().dim_in_pixel(),
             &labels,
-            bar_boxes.chain(floor_line),
+            bar_boxes.chain(floor_boxes),
         );
         c.configure_series_labels()
             .position(corner)
@@ -490,8 +493,7 @@ mod tests {
     fn the_legend_takes_a_corner_the_data_leave_free() {
         let (x, y) = ((0.0, 10.0), (0.0, 10.0));
         let labels = ["measured", "first model"];
-        let corner =
-            |pts: &[(f64, f64)]| quiet_corner((&x, &y), (800, 400), &labels, segments(pts));
+        let corner = |pts: &[(f64, f64)]| quiet_corner((x, y), (800, 400), &labels, segments(pts));
         assert!(matches!(
             corner(&[(4.0, 5.0), (6.0, 5.0)]),
             SeriesLabelPosition::UpperRight

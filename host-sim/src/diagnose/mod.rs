@@ -803,6 +803,14 @@ pub struct Options {
     pub unweighted: bool,
 }
 
+impl Options {
+    /// The moving mass every fit holds fixed \[kg\]: the user's, else the given model's, else
+    /// none (fitted).
+    pub fn fixed_mass(&self) -> Option<f64> {
+        self.mass_kg.or(self.given.map(|g| g.mass_kg))
+    }
+}
+
 /// The whole diagnosis of a record.
 #[derive(Clone, Debug)]
 pub struct Diagnosis {
@@ -1166,12 +1174,19 @@ pub fn static_seed(p: &Prepared, table: &static_table::StaticFit) -> AxisModel {
 /// ([`stribeck_range`], [`BRISTLE_STIFFNESS_RANGE`]), twice in turn. A parameter the record does
 /// not determine is held at a documented prior and listed in [`fit::Flags::priors`].
 pub fn baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
-    baseline_searched(p, opts, n_eff, Search::STAGE)
+    baseline_searched(p, opts, n_eff, Search::STAGE, None)
 }
 
-/// [`baseline`] with the nonlinear search `search`.
-fn baseline_searched(p: &Prepared, opts: &Options, n_eff: f64, search: Search) -> Fit {
-    let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
+/// [`baseline`] with the nonlinear search `search`, seeded from the record's symmetric static
+/// table `table` (fitted here when `None`).
+fn baseline_searched(
+    p: &Prepared,
+    opts: &Options,
+    n_eff: f64,
+    search: Search,
+    table: Option<&static_table::StaticFit>,
+) -> Fit {
+    let fixed_mass = opts.fixed_mass();
     if let Some(g) = &opts.given {
         let plain = AxisModel {
             mass_kg: g.mass_kg,
@@ -1179,8 +1194,11 @@ fn baseline_searched(p: &Prepared, opts: &Options, n_eff: f64, search: Search) -
         };
         return fit::refit(&plain, p, fixed_mass, n_eff);
     }
-    let table = static_table::fit(p, fixed_mass).symmetric;
-    let seeded = fit::refit(&static_seed(p, &table), p, fixed_mass, n_eff);
+    let seed = match table {
+        Some(t) => static_seed(p, t),
+        None => static_seed(p, &static_table::fit(p, fixed_mass).symmetric),
+    };
+    let seeded = fit::refit(&seed, p, fixed_mass, n_eff);
     polish(&seeded, None, p, fixed_mass, n_eff, search)
 }
 
@@ -1193,7 +1211,7 @@ fn baseline_searched(p: &Prepared, opts: &Options, n_eff: f64, search: Search) -
 /// baseline searches again from the static table ([`baseline`]). It takes a 60 s record's
 /// diagnosis to 0.81 of its time (session 36, `diagnose_timing 1000 1001`).
 pub fn first_baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
-    baseline_searched(p, opts, n_eff, Search::FIRST_BASELINE)
+    baseline_searched(p, opts, n_eff, Search::FIRST_BASELINE, None)
 }
 
 /// Mass and sigma1 whose 95 % interval reaches zero are not determined by the record. The mass
@@ -2445,7 +2463,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         }
     }
     let mut n_eff = fit::effective_samples(&p, protocol.parallel_cutoff_hz);
-    let fixed_mass = opts.mass_kg.or(opts.given.map(|g| g.mass_kg));
+    let fixed_mass = opts.fixed_mass();
     // a first baseline, and how much of its prediction the motion reading leaves open
     let (mut spread, mut motion_weighted) = (None, false);
     if !opts.unweighted || opts.leave_out_unresolved.is_some() {
@@ -2470,7 +2488,10 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     } else {
         Breakaway::find(&p)
     };
-    let base = timed(&mut times.baseline_s, || baseline(&p, opts, n_eff));
+    // seeded from the table just fitted on the same weighted record
+    let base = timed(&mut times.baseline_s, || {
+        baseline_searched(&p, opts, n_eff, Search::STAGE, Some(&tables.symmetric))
+    });
     let spread =
         spread.unwrap_or_else(|| prediction_spread(rec, name, protocol, &p, &base.model).1);
     // scored like a model's error over the moving samples counted alike
