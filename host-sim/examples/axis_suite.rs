@@ -65,6 +65,7 @@ const NEVER_RUN: [NeverRun; 11] = [
     ("never-run s45", &[(2110, 20)], 90, 10),
     ("never-run s52", &[(2370, 30)], 12_000, 10),
     ("never-run s53", &[(2400, 30)], 12_010, 10),
+    ("never-run s54", &[(2430, 30)], 12_020, 10),
 ];
 
 /// The never-run checks of family B's shapes (`--unseen --shapes b`;
