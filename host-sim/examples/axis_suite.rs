@@ -53,7 +53,7 @@ use std::path::Path;
 /// set (740.., offset 45) is not one: session 35 studied its dwell miss 20745. Session 44's
 /// effect-free seeds skip 1000..1009, the axes of the calibration's first effect. With
 /// `--shapes b` the same command runs [`NEVER_RUN_B`] instead.
-const NEVER_RUN: [NeverRun; 11] = [
+const NEVER_RUN: [NeverRun; 12] = [
     ("never-run s35", &[(770, 30)], 50, 5),
     ("never-run s38", &[(800, 30)], 55, 5),
     ("never-run s39", &[(830, 30)], 60, 5),
