@@ -502,6 +502,38 @@ impl core::fmt::Display for NestedCheck {
 }
 
 impl Candidate {
+    /// Effect `info`'s candidate before anything is scored: no fit, no evidence, not
+    /// significant, and none of the marks a stage's ranking sets later (its stage fit, a restart,
+    /// a table start, a settled close call, the nested check). Scoring fills in what it finds
+    /// (`Candidate { .., ..Candidate::unscored(info) }`).
+    fn unscored(info: &EffectInfo) -> Self {
+        Candidate {
+            kind: info.kind,
+            meaning: info.meaning.into(),
+            rel_err_pct: None,
+            delta_bic: None,
+            peak_delta_bic: None,
+            detected: false,
+            error_cut: 0.0,
+            explained_rms_n: 0.0,
+            significant: false,
+            caution: None,
+            parameters: Vec::new(),
+            skipped: None,
+            fit: None,
+            nonlinear_excludes_null: false,
+            rest_null: None,
+            dwell: None,
+            staged: None,
+            fitted_before_restart: false,
+            from_static_table: false,
+            model_start: None,
+            settled_as_stage: false,
+            kept_over_larger: None,
+            nested_check: None,
+        }
+    }
+
     /// For the leading candidate of a stage where none is significant: where its evidence is
     /// strong ([`Candidate::detected`]) and its error cut at least [`NEAR_CUT`] but below
     /// [`MIN_ERROR_CUT`], a sentence saying so, for the text output and the report. "Nothing is
@@ -1143,29 +1175,15 @@ mod tests {
 
     fn candidate(detected: bool, error_cut: f64) -> Candidate {
         Candidate {
-            kind: EffectKind::DwellStiction,
             meaning: String::new(),
             rel_err_pct: Some(1.0),
             delta_bic: Some(if detected { 100.0 } else { 5.0 }),
-            peak_delta_bic: None,
             detected,
             error_cut,
             explained_rms_n: 1.0,
             significant: detected && error_cut >= MIN_ERROR_CUT,
-            caution: None,
-            parameters: Vec::new(),
-            skipped: None,
-            fit: None,
-            rest_null: None,
-            dwell: None,
-            staged: None,
             nonlinear_excludes_null: true,
-            fitted_before_restart: false,
-            from_static_table: false,
-            model_start: None,
-            settled_as_stage: false,
-            kept_over_larger: None,
-            nested_check: None,
+            ..Candidate::unscored(effect_info(EffectKind::DwellStiction))
         }
     }
 

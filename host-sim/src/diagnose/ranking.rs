@@ -456,29 +456,8 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
         ..
     } = *on;
     let mut cand = Candidate {
-        kind: info.kind,
-        meaning: info.meaning.into(),
-        rel_err_pct: None,
-        delta_bic: None,
-        peak_delta_bic: None,
-        detected: false,
-        error_cut: 0.0,
-        explained_rms_n: 0.0,
-        significant: false,
-        caution: None,
-        parameters: Vec::new(),
         skipped: missing_channel(info.kind, p),
-        fit: None,
-        nonlinear_excludes_null: false,
-        rest_null: None,
-        dwell: None,
-        staged: None,
-        fitted_before_restart: false,
-        from_static_table: false,
-        model_start: None,
-        settled_as_stage: false,
-        kept_over_larger: None,
-        nested_check: None,
+        ..Candidate::unscored(info)
     };
     if cand.skipped.is_some() {
         return cand;
@@ -710,8 +689,6 @@ fn judge(
         peak_cut: 1.0 - (peak_rss / null.peak_rss).sqrt(),
     });
     Candidate {
-        kind: info.kind,
-        meaning: info.meaning.into(),
         rel_err_pct: Some(fit.rel_err_pct),
         delta_bic: Some(dbic),
         peak_delta_bic: peaks,
@@ -721,18 +698,11 @@ fn judge(
         significant: detected && error_cut >= MIN_ERROR_CUT,
         caution,
         parameters,
-        skipped: None,
         fit: Some(fit),
         nonlinear_excludes_null,
         rest_null,
         dwell,
-        staged: None,
-        fitted_before_restart: false,
-        from_static_table: false,
-        model_start: None,
-        settled_as_stage: false,
-        kept_over_larger: None,
-        nested_check: None,
+        ..Candidate::unscored(info)
     }
 }
 
