@@ -4,6 +4,7 @@
 //! ([`motion_weights`]).
 
 use super::*;
+
 /// Position filter cutoffs, relative to the protocol's, over which [`unresolved`] reads the
 /// spread of a model's prediction.
 pub const RESOLVE_BANDWIDTHS: [f64; 4] = [0.4, 0.6, 1.6, 2.5];

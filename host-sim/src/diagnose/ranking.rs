@@ -6,6 +6,7 @@
 //! of an added effect.
 
 use super::*;
+
 /// How many leading candidates a stage's ranking re-judges after their nonlinear parameters
 /// have moved (usize::MAX: all).
 pub const POLISHED_LEADERS: usize = 5;

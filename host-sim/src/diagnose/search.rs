@@ -5,6 +5,7 @@
 //! model holds at the edge of their search ranges ([`SearchEdge`]).
 
 use super::*;
+
 /// Search range of the Stribeck velocity on a record [m/s]: from the stuck threshold to a third
 /// of the fastest speed the record visits (the 99th percentile). Fc is only determined where
 /// the hump has decayed (`exp(-(v/vs)^2) < 1e-4` at `v = 3 vs`): a larger vs would turn the
