@@ -237,6 +237,31 @@ pub fn residual_effective_samples(p: &Prepared, filtered: &[f64]) -> f64 {
     (p.scored_weight() / (integrated_autocorrelation_time(&r) * LS_STRIDE as f64)).max(10.0)
 }
 
+/// What every fit of one record holds fixed: the prepared record, the moving mass the user
+/// gave (if any) and the record's effective sample count. The nonlinear searches pass it
+/// whole to every refit they make.
+#[derive(Clone, Copy)]
+pub struct Fitting<'a> {
+    /// The prepared record (filtered, weighted).
+    pub p: &'a Prepared,
+    /// The moving mass the user gave \[kg\], held in every fit (`None`: fitted).
+    pub fixed_mass: Option<f64>,
+    /// Effective independent samples ([`effective_samples`]).
+    pub n_eff: f64,
+}
+
+impl Fitting<'_> {
+    /// [`refit`] of `seed` on this record.
+    pub fn refit(&self, seed: &AxisModel) -> Fit {
+        refit(seed, self.p, self.fixed_mass, self.n_eff)
+    }
+
+    /// [`refit_quick`] of `seed` on this record.
+    pub fn refit_quick(&self, seed: &AxisModel) -> Fit {
+        refit_quick(seed, self.p, self.fixed_mass, self.n_eff)
+    }
+}
+
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
 /// `fixed_mass` keeps M as given.
 pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
