@@ -1742,9 +1742,14 @@ mod chord_tests {
         };
         let n_eff = 200.0;
         let p = record_of(&with_ratio(0.33));
-        let start = refit(&with_ratio(0.0), &p, None, n_eff);
-        let found = crate::diagnose::search_stribeck_ratio(&start, &p, None, n_eff)
-            .expect("a ratio that matters");
+        let on = |p| Fitting {
+            p,
+            fixed_mass: None,
+            n_eff,
+        };
+        let start = on(&p).refit(&with_ratio(0.0));
+        let found =
+            crate::diagnose::search_stribeck_ratio(&start, on(&p)).expect("a ratio that matters");
         let r = ratio_of(&found);
         eprintln!(
             "ratio {r:.3}, error {:.3} -> {:.3} %",
@@ -1754,8 +1759,8 @@ mod chord_tests {
         assert!(found.rel_err_pct < 0.5 * start.rel_err_pct);
         // the same speed both ways: nothing, or a ratio near 0
         let p0 = record_of(&with_ratio(0.0));
-        let start0 = refit(&with_ratio(0.0), &p0, None, n_eff);
-        if let Some(f) = crate::diagnose::search_stribeck_ratio(&start0, &p0, None, n_eff) {
+        let start0 = on(&p0).refit(&with_ratio(0.0));
+        if let Some(f) = crate::diagnose::search_stribeck_ratio(&start0, on(&p0)) {
             let r0 = ratio_of(&f);
             assert!(r0.abs() <= 0.1, "{r0}");
         }
