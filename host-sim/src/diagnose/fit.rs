@@ -237,6 +237,31 @@ pub fn residual_effective_samples(p: &Prepared, filtered: &[f64]) -> f64 {
     (p.scored_weight() / (integrated_autocorrelation_time(&r) * LS_STRIDE as f64)).max(10.0)
 }
 
+/// What every fit of one record holds fixed: the prepared record, the moving mass the user
+/// gave (if any) and the record's effective sample count. The nonlinear searches pass it
+/// whole to every refit they make.
+#[derive(Clone, Copy)]
+pub struct Fitting<'a> {
+    /// The prepared record (filtered, weighted).
+    pub p: &'a Prepared,
+    /// The moving mass the user gave \[kg\], held in every fit (`None`: fitted).
+    pub fixed_mass: Option<f64>,
+    /// Effective independent samples ([`effective_samples`]).
+    pub n_eff: f64,
+}
+
+impl Fitting<'_> {
+    /// [`refit`] of `seed` on this record.
+    pub fn refit(&self, seed: &AxisModel) -> Fit {
+        refit(seed, self.p, self.fixed_mass, self.n_eff)
+    }
+
+    /// [`refit_quick`] of `seed` on this record.
+    pub fn refit_quick(&self, seed: &AxisModel) -> Fit {
+        refit_quick(seed, self.p, self.fixed_mass, self.n_eff)
+    }
+}
+
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
 /// `fixed_mass` keeps M as given.
 pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
@@ -1717,9 +1742,14 @@ mod chord_tests {
         };
         let n_eff = 200.0;
         let p = record_of(&with_ratio(0.33));
-        let start = refit(&with_ratio(0.0), &p, None, n_eff);
-        let found = crate::diagnose::search_stribeck_ratio(&start, &p, None, n_eff)
-            .expect("a ratio that matters");
+        let on = |p| Fitting {
+            p,
+            fixed_mass: None,
+            n_eff,
+        };
+        let start = on(&p).refit(&with_ratio(0.0));
+        let found =
+            crate::diagnose::search_stribeck_ratio(&start, on(&p)).expect("a ratio that matters");
         let r = ratio_of(&found);
         eprintln!(
             "ratio {r:.3}, error {:.3} -> {:.3} %",
@@ -1729,8 +1759,8 @@ mod chord_tests {
         assert!(found.rel_err_pct < 0.5 * start.rel_err_pct);
         // the same speed both ways: nothing, or a ratio near 0
         let p0 = record_of(&with_ratio(0.0));
-        let start0 = refit(&with_ratio(0.0), &p0, None, n_eff);
-        if let Some(f) = crate::diagnose::search_stribeck_ratio(&start0, &p0, None, n_eff) {
+        let start0 = on(&p0).refit(&with_ratio(0.0));
+        if let Some(f) = crate::diagnose::search_stribeck_ratio(&start0, on(&p0)) {
             let r0 = ratio_of(&f);
             assert!(r0.abs() <= 0.1, "{r0}");
         }

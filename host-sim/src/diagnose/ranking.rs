@@ -56,14 +56,23 @@ pub(super) struct Scope<'a> {
 }
 
 impl Scope<'_> {
+    /// What every fit of the record holds fixed.
+    fn fitting(&self) -> fit::Fitting<'_> {
+        fit::Fitting {
+            p: self.p,
+            fixed_mass: self.fixed_mass,
+            n_eff: self.n_eff,
+        }
+    }
+
     /// `m`'s linear parameters refitted to the record ([`fit::refit`]).
     fn refit(&self, m: &AxisModel) -> Fit {
-        fit::refit(m, self.p, self.fixed_mass, self.n_eff)
+        self.fitting().refit(m)
     }
 
     /// `f` searched on the record ([`polish`]).
     fn polish(&self, f: &Fit, effect: Option<EffectKind>, search: Search) -> Fit {
-        polish(f, effect, self.p, self.fixed_mass, self.n_eff, search)
+        polish(f, effect, self.fitting(), search)
     }
 }
 
@@ -449,13 +458,7 @@ fn rank_among(
 }
 
 fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
-    let Scope {
-        p,
-        brk,
-        fixed_mass,
-        n_eff,
-        ..
-    } = *on;
+    let Scope { p, brk, n_eff, .. } = *on;
     let mut cand = Candidate {
         skipped: missing_channel(info.kind, p),
         ..Candidate::unscored(info)
@@ -478,7 +481,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     if let Some(v) = shape {
                         m = fit::with_shape(&m, info.kind, v);
                     }
-                    let f = fit::refit_quick(&m, p, fixed_mass, n_eff);
+                    let f = on.fitting().refit_quick(&m);
                     (grid_objective(info, x, f.rss, n_eff), f)
                 })
             };
@@ -871,7 +874,7 @@ fn restart_from_better_starts(
             break;
         };
         better.flags = fit.flags.clone();
-        mark_unidentified_linear(&mut better, on.p, on.fixed_mass, on.n_eff);
+        mark_unidentified_linear(&mut better, on.fitting());
         restarts.push(Restart {
             revealed_by,
             from_rel_err_pct: fit.rel_err_pct,

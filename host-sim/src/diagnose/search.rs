@@ -4,6 +4,7 @@
 //! Stribeck velocity ratio, an effect's own parameter searched again, and the parameters a
 //! model holds at the edge of their search ranges ([`SearchEdge`]).
 
+use super::fit::Fitting;
 use super::*;
 
 /// Search range of the Stribeck velocity on a record [m/s]: from the stuck threshold to a third
@@ -95,16 +96,9 @@ impl Nonlinear {
 /// test: when the profile rises by less than the 95 % likelihood-ratio threshold
 /// (`N_eff ln(RSS_max / RSS_min) < 3.84`) anywhere in the range, the record does not determine
 /// the parameter and it is held at its prior.
-fn search_one(
-    which: Nonlinear,
-    start: &Fit,
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-    refined: bool,
-) -> Fit {
-    let (lo, hi) = which.range(p);
-    let f = search_in(which, (lo, hi), start, p, fixed_mass, n_eff, refined);
+fn search_one(which: Nonlinear, start: &Fit, on: Fitting<'_>, refined: bool) -> Fit {
+    let (lo, hi) = which.range(on.p);
+    let f = search_in(which, (lo, hi), start, on, refined);
     let at_top = f
         .flags
         .at_search_edge
@@ -113,7 +107,7 @@ fn search_one(
     if which == Nonlinear::StribeckVelocity && at_top {
         // once more, up to the record's top speed (see STRIBECK_TOP_FRACTION)
         let wide = (lo, (hi / STRIBECK_TOP_FRACTION).max(hi));
-        let wide = search_in(which, wide, &f, p, fixed_mass, n_eff, refined);
+        let wide = search_in(which, wide, &f, on, refined);
         if wide.rss < f.rss {
             return wide;
         }
@@ -125,14 +119,12 @@ fn search_in(
     which: Nonlinear,
     (lo, hi): (f64, f64),
     start: &Fit,
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
+    on: Fitting<'_>,
     refined: bool,
 ) -> Fit {
     let (llo, lhi) = (lo.ln(), hi.ln());
     let eval = |base: &AxisModel, lx: f64| {
-        let f = fit::refit_quick(&which.set(base, lx.exp()), p, fixed_mass, n_eff);
+        let f = on.refit_quick(&which.set(base, lx.exp()));
         (f.rss, f)
     };
     let base = start.model;
@@ -140,7 +132,7 @@ fn search_in(
     let (x1, f1, profile) = fit::grid_min(&coarse, |lx| eval(&base, lx));
     let r_min = profile.iter().map(|q| q.1).fold(f64::INFINITY, f64::min);
     let r_max = profile.iter().map(|q| q.1).fold(0.0f64, f64::max);
-    let rise = n_eff * (r_max / r_min).ln();
+    let rise = on.n_eff * (r_max / r_min).ln();
     let flat = rise.is_nan() || rise < 3.84;
     let mut best = if f1.rss < start.rss {
         f1
@@ -150,8 +142,8 @@ fn search_in(
     // flags of the other parameters carry over; this one's are decided here
     let inherited = start.flags.without(which.name());
     if flat {
-        let prior = which.prior(&best.model, p);
-        let mut f = fit::refit(&which.set(&best.model, prior), p, fixed_mass, n_eff);
+        let prior = which.prior(&best.model, on.p);
+        let mut f = on.refit(&which.set(&best.model, prior));
         f.flags = inherited;
         f.flags.priors.push((
             which.name(),
@@ -298,20 +290,23 @@ pub(super) fn baseline_searched(
     search: Search,
     table: Option<&static_table::StaticFit>,
 ) -> Fit {
-    let fixed_mass = opts.fixed_mass();
+    let on = Fitting {
+        p,
+        fixed_mass: opts.fixed_mass(),
+        n_eff,
+    };
     if let Some(g) = &opts.given {
         let plain = AxisModel {
             mass_kg: g.mass_kg,
             friction: FrictionModel::plain(g.friction.params),
         };
-        return fit::refit(&plain, p, fixed_mass, n_eff);
+        return on.refit(&plain);
     }
     let seed = match table {
         Some(t) => static_seed(p, t),
-        None => static_seed(p, &static_table::fit(p, fixed_mass).symmetric),
+        None => static_seed(p, &static_table::fit(p, on.fixed_mass).symmetric),
     };
-    let seeded = fit::refit(&seed, p, fixed_mass, n_eff);
-    polish(&seeded, None, p, fixed_mass, n_eff, search)
+    polish(&on.refit(&seed), None, on, search)
 }
 
 /// The first baseline of a weighted diagnosis: it only sets the motion weights
@@ -330,12 +325,7 @@ pub fn first_baseline(p: &Prepared, opts: &Options, n_eff: f64) -> Fit {
 /// is then held at its prior, zero (no inertial force worth modelling: give `--mass` for a
 /// controller), and refitted without it; sigma1 stays where the bounded fit put it (its prior,
 /// zero, lies inside its interval) and is listed as not identifiable.
-pub(super) fn mark_unidentified_linear(
-    f: &mut Fit,
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) {
+pub(super) fn mark_unidentified_linear(f: &mut Fit, on: Fitting<'_>) {
     // an undefined interval (NaN standard error) also counts as reaching zero
     let ci_reaches_zero = |f: &Fit, q: Param| {
         f.estimate(q)
@@ -352,9 +342,9 @@ pub(super) fn mark_unidentified_linear(
             f.flags = f.flags.without(q.label());
         }
     }
-    if fixed_mass.is_none() {
+    if on.fixed_mass.is_none() {
         if let Some((v, h)) = ci_reaches_zero(f, Param::Mass) {
-            let mut g = fit::refit(&f.model, p, Some(0.0), n_eff);
+            let mut g = fit::refit(&f.model, on.p, Some(0.0), on.n_eff);
             g.flags = f.flags.clone();
             g.flags.priors.push((
                 Param::Mass.label(),
@@ -416,14 +406,7 @@ impl Search {
 /// nonlinear parameter, alternating [`Search::rounds`] times. The symmetric baseline's values
 /// are biased when an effect was missing (it bends its Stribeck curve to mimic the effect), so
 /// an effect is only judged fairly once they have moved.
-pub fn polish(
-    current: &Fit,
-    effect: Option<EffectKind>,
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-    search: Search,
-) -> Fit {
+pub fn polish(current: &Fit, effect: Option<EffectKind>, on: Fitting<'_>, search: Search) -> Fit {
     let Search {
         rounds,
         stiffness,
@@ -441,7 +424,7 @@ pub fn polish(
             // the last round of a full polish (a stage's model, not a candidate's quick re-judging)
             // ends with a continuous refinement
             let refined = refine && round + 1 == rounds;
-            let f = search_one(*which, &best, p, fixed_mass, n_eff, refined);
+            let f = search_one(*which, &best, on, refined);
             // on the last round a parameter the record does not determine goes to its prior
             // (the profile is flat: the fit changes by less than the 95 % threshold)
             let held = round + 1 == rounds && f.flags.is_prior(which.name());
@@ -450,15 +433,15 @@ pub fn polish(
             }
         }
         if stribeck_ratio {
-            if let Some(f) = search_stribeck_ratio(&best, p, fixed_mass, n_eff) {
+            if let Some(f) = search_stribeck_ratio(&best, on) {
                 best = f;
             }
         }
-        if let Some(f) = effect.and_then(|e| regrid_effect(&best, e, p, fixed_mass, n_eff)) {
+        if let Some(f) = effect.and_then(|e| regrid_effect(&best, e, on)) {
             best = f;
         }
     }
-    mark_unidentified_linear(&mut best, p, fixed_mass, n_eff);
+    mark_unidentified_linear(&mut best, on);
     best
 }
 
@@ -488,12 +471,7 @@ pub const STRIBECK_RATIO_REACH: (f64, f64) = (
 /// [`STRIBECK_RATIO_REACH`] is reported ([`effect_search_edges`]).
 /// The candidates' ranking does not search it ([`Search::stribeck_ratio`]): the probe that
 /// asked for it (session 46) found the ranking right and the stage's error short of the floor.
-pub(super) fn search_stribeck_ratio(
-    current: &Fit,
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) -> Option<Fit> {
+pub(super) fn search_stribeck_ratio(current: &Fit, on: Fitting<'_>) -> Option<Fit> {
     current.model.friction.effects.asymmetry?;
     let with_ratio = |r: f64| {
         let mut m = current.model;
@@ -506,7 +484,7 @@ pub(super) fn search_stribeck_ratio(
     // the profile's minimum at 0.30 where the truth's 0.33 fits best (0.40 % against 0.45 %
     // quick, 0.20 % against 0.09 % refitted)
     let eval = |r: f64| {
-        let f = fit::refit(&with_ratio(r), p, fixed_mass, n_eff);
+        let f = on.refit(&with_ratio(r));
         (f.rss, f)
     };
     let (coarse, _, _) = fit::grid_min(&STRIBECK_RATIO_GRID, eval);
@@ -517,7 +495,7 @@ pub(super) fn search_stribeck_ratio(
         .map(|i| coarse + STRIBECK_RATIO_FINE_STEP * f64::from(i))
         .collect();
     let (_, mut f, _) = fit::grid_min(&fine, eval);
-    let gain = n_eff * (current.rss / f.rss).ln();
+    let gain = on.n_eff * (current.rss / f.rss).ln();
     if gain.is_nan() || gain <= 3.84 {
         return None;
     }
@@ -528,24 +506,18 @@ pub(super) fn search_stribeck_ratio(
 /// The fit with effect `e`'s own nonlinear parameter searched again on its grid (the other
 /// nonlinear parameters held), the linear ones refitted: `Some` only where that improves the
 /// grid's objective (and `e` has a nonlinear parameter). It keeps `current`'s flags.
-fn regrid_effect(
-    current: &Fit,
-    e: EffectKind,
-    p: &Prepared,
-    fixed_mass: Option<f64>,
-    n_eff: f64,
-) -> Option<Fit> {
+fn regrid_effect(current: &Fit, e: EffectKind, on: Fitting<'_>) -> Option<Fit> {
     let info = effect_info(e);
     let (_, values, _) = info.nonlinear?;
     let base = current.model;
     let (_, f, _) = effect_grid_min(info, values, |x| {
-        let f = fit::refit_quick(&fit::add_effect(&base, e, p, x), p, fixed_mass, n_eff);
-        (grid_objective(info, x, f.rss, n_eff), f)
+        let f = on.refit_quick(&fit::add_effect(&base, e, on.p, x));
+        (grid_objective(info, x, f.rss, on.n_eff), f)
     });
-    let mut f = fit::refit(&f.model, p, fixed_mass, n_eff);
+    let mut f = on.refit(&f.model);
     let objective = |f: &Fit| {
         let order = nonlinear_value(&f.model, e).unwrap_or(0.0);
-        grid_objective(info, order, f.rss, n_eff)
+        grid_objective(info, order, f.rss, on.n_eff)
     };
     (objective(&f) < objective(current)).then(|| {
         f.flags = current.flags.clone();
