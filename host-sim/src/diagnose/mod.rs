@@ -995,10 +995,12 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     // scored like a model's error over the moving samples counted alike
     let motion_spread_pct = p.plain_pct(|i| spread[i]);
     let on = Scope {
-        p: &p,
+        fitting: fit::Fitting {
+            p: &p,
+            fixed_mass,
+            n_eff,
+        },
         brk: &brk,
-        fixed_mass,
-        n_eff,
         tables: &tables,
     };
     let mut stages = vec![stage(None, base, &on, true, &mut times)];

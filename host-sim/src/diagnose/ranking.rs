@@ -34,7 +34,7 @@ impl<'a> Current<'a> {
         Self {
             fit,
             peak_rss: on.brk.peak_rss(&fit.prediction),
-            weight_sum: on.p.scored_weight().max(1.0),
+            weight_sum: on.fitting.p.scored_weight().max(1.0),
         }
     }
 }
@@ -43,36 +43,24 @@ impl<'a> Current<'a> {
 /// diagnosis, after the motion weights are set, and handed down the ranking whole.
 #[derive(Clone, Copy)]
 pub(super) struct Scope<'a> {
-    /// The prepared record (filtered, weighted).
-    pub(super) p: &'a Prepared,
+    /// The prepared record (filtered, weighted), the mass the user gave and `n_eff`: what
+    /// every fit of it holds fixed.
+    pub(super) fitting: fit::Fitting<'a>,
     /// Its breakaway events.
     pub(super) brk: &'a Breakaway,
-    /// The moving mass the user gave \[kg\], if any.
-    pub(super) fixed_mass: Option<f64>,
-    /// Effective independent samples ([`fit::effective_samples`]).
-    pub(super) n_eff: f64,
     /// Its static tables, fitted once ([`static_table::fit`]).
     pub(super) tables: &'a static_table::StaticTables,
 }
 
 impl Scope<'_> {
-    /// What every fit of the record holds fixed.
-    fn fitting(&self) -> fit::Fitting<'_> {
-        fit::Fitting {
-            p: self.p,
-            fixed_mass: self.fixed_mass,
-            n_eff: self.n_eff,
-        }
-    }
-
     /// `m`'s linear parameters refitted to the record ([`fit::refit`]).
     fn refit(&self, m: &AxisModel) -> Fit {
-        self.fitting().refit(m)
+        self.fitting.refit(m)
     }
 
     /// `f` searched on the record ([`polish`]).
     fn polish(&self, f: &Fit, effect: Option<EffectKind>, search: Search) -> Fit {
-        polish(f, effect, self.fitting(), search)
+        polish(f, effect, self.fitting, search)
     }
 }
 
@@ -325,9 +313,10 @@ fn verdict_samples(out: &[Candidate], on: &Scope) -> f64 {
     out.iter()
         .filter_map(|c| c.model_start.as_ref().or(c.fit.as_ref()))
         .min_by(|a, b| a.rss.total_cmp(&b.rss))
-        .map_or(on.n_eff, |f| {
-            on.n_eff
-                .min(fit::residual_effective_samples(on.p, &f.prediction))
+        .map_or(on.fitting.n_eff, |f| {
+            on.fitting
+                .n_eff
+                .min(fit::residual_effective_samples(on.fitting.p, &f.prediction))
         })
 }
 
@@ -422,7 +411,14 @@ fn rank_among(
         })
         .take(POLISHED_LEADERS)
         .collect();
-    polish_again(&mut out, &leaders, Search::LEADER, on, &reference, on.n_eff);
+    polish_again(
+        &mut out,
+        &leaders,
+        Search::LEADER,
+        on,
+        &reference,
+        on.fitting.n_eff,
+    );
     // the leader after the polish (by_bic puts the most evidence first)
     let leader = leaders
         .iter()
@@ -458,7 +454,7 @@ fn rank_among(
 }
 
 fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
-    let Scope { p, brk, n_eff, .. } = *on;
+    let (p, brk, n_eff) = (on.fitting.p, on.brk, on.fitting.n_eff);
     let mut cand = Candidate {
         skipped: missing_channel(info.kind, p),
         ..Candidate::unscored(info)
@@ -481,7 +477,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     if let Some(v) = shape {
                         m = fit::with_shape(&m, info.kind, v);
                     }
-                    let f = on.fitting().refit_quick(&m);
+                    let f = on.fitting.refit_quick(&m);
                     (grid_objective(info, x, f.rss, n_eff), f)
                 })
             };
@@ -874,7 +870,7 @@ fn restart_from_better_starts(
             break;
         };
         better.flags = fit.flags.clone();
-        mark_unidentified_linear(&mut better, on.fitting());
+        mark_unidentified_linear(&mut better, on.fitting);
         restarts.push(Restart {
             revealed_by,
             from_rel_err_pct: fit.rel_err_pct,
@@ -945,7 +941,7 @@ pub const FROM_STATIC_TABLE: &str =
 /// [`stage_fit`]'s second start: the static table with the candidate's effects, refitted and
 /// searched as a stage is (two rounds, the stiffness too).
 fn from_static_table(e: EffectKind, candidate: &Fit, on: &Scope) -> Fit {
-    let mut restart = static_seed(on.p, &on.tables.symmetric);
+    let mut restart = static_seed(on.fitting.p, &on.tables.symmetric);
     restart.friction.effects = candidate.model.friction.effects;
     on.polish(&on.refit(&restart), Some(e), Search::STAGE)
 }
@@ -957,7 +953,7 @@ pub(super) fn stage(
     rank: bool,
     times: &mut PhaseTimes,
 ) -> Stage {
-    let p = on.p;
+    let p = on.fitting.p;
     let (fit, candidates, restarts) = if rank {
         let (fit, mut candidates, restarts) = rank_from_best_start(fit, on, times);
         timed(&mut times.close_calls_s, || {
