@@ -344,7 +344,11 @@ pub(super) fn mark_unidentified_linear(f: &mut Fit, on: Fitting<'_>) {
     }
     if on.fixed_mass.is_none() {
         if let Some((v, h)) = ci_reaches_zero(f, Param::Mass) {
-            let mut g = fit::refit(&f.model, on.p, Some(0.0), on.n_eff);
+            let held = Fitting {
+                fixed_mass: Some(0.0),
+                ..on
+            };
+            let mut g = held.refit(&f.model);
             g.flags = f.flags.clone();
             g.flags.priors.push((
                 Param::Mass.label(),
