@@ -41,7 +41,7 @@
 //! with a share, less the two they replace (the bristle stiffness and a level), and the lag
 //! rate ([`ContactCheck::extra_parameters`]).
 
-use super::fit::box_solve;
+use super::fit::{box_solve, for_each_combination};
 use super::inverse::{AxisModel, Prepared};
 use lugre_servo::friction::{Levels, LugreParams};
 use nalgebra::{DMatrix, DVector};
@@ -369,6 +369,41 @@ fn hold(
 /// The columns the shares, the mass, the viscous scale and the damping multiply.
 const COLUMNS: usize = ELEMENTS + 3;
 
+/// Rows `0..FIRST_GROUP_ROWS` of the normal equations hold 50 of its 104 products (row `r`
+/// has `COLUMNS - r` and its right-hand side): the first of the two groups [`solve`] sums side
+/// by side.
+const FIRST_GROUP_ROWS: usize = 4;
+
+/// Rows `rows` of the normal equations of the columns `x` against the measured force less
+/// `offset`, weighted, over the `scored` samples: each row's upper triangle (from its
+/// diagonal; the entries before it stay 0) and its right-hand side. One pass over the samples
+/// reads each column once for all the rows, where a pass per row read them all once per row;
+/// every sum still runs in sample order from 0.0 (the same numbers bit for bit).
+fn normal_rows(
+    x: &[&[f64]],
+    rows: std::ops::Range<usize>,
+    scored: &[usize],
+    p: &Prepared,
+    offset: f64,
+) -> Vec<([f64; COLUMNS], f64)> {
+    let mut out = vec![([0.0; COLUMNS], 0.0); rows.len()];
+    let mut sample = [0.0; COLUMNS];
+    for &i in scored {
+        for (s, col) in sample.iter_mut().zip(x) {
+            *s = col[i];
+        }
+        let y = p.force[i] - offset;
+        for (r, (row, rhs)) in rows.clone().zip(out.iter_mut()) {
+            let wr = p.weight[i] * sample[r];
+            *rhs += wr * y;
+            for (c, s) in row.iter_mut().zip(&sample).skip(r) {
+                *c += wr * s;
+            }
+        }
+    }
+    out
+}
+
 /// A fit at one point of the search.
 #[derive(Clone)]
 struct Point {
@@ -398,22 +433,12 @@ fn solve(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
     x.extend(filtered.iter().map(|c| c.as_slice()));
     let offset = model.friction.offset_force();
     let scored: Vec<usize> = (0..p.len()).filter(|&i| p.weight[i] > 0.0).collect();
-    // each row of the normal equations summed over the samples in order, the rows in parallel
-    let rows: Vec<(Vec<f64>, f64)> = (0..COLUMNS)
-        .into_par_iter()
-        .map(|r| {
-            let mut row = vec![0.0; COLUMNS];
-            let mut rhs = 0.0;
-            for &i in &scored {
-                let wr = p.weight[i] * x[r][i];
-                rhs += wr * (p.force[i] - offset);
-                for (c, col) in row.iter_mut().zip(&x).skip(r) {
-                    *c += wr * col[i];
-                }
-            }
-            (row, rhs)
-        })
-        .collect();
+    // the rows in two groups of about equal work side by side
+    let (first, second) = rayon::join(
+        || normal_rows(&x, 0..FIRST_GROUP_ROWS, &scored, p, offset),
+        || normal_rows(&x, FIRST_GROUP_ROWS..COLUMNS, &scored, p, offset),
+    );
+    let rows: Vec<([f64; COLUMNS], f64)> = first.into_iter().chain(second).collect();
     let mut a = DMatrix::<f64>::zeros(COLUMNS, COLUMNS);
     let mut rhs = DVector::<f64>::zeros(COLUMNS);
     for (r, (row, b)) in rows.iter().enumerate() {
@@ -430,9 +455,8 @@ fn solve(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
     let rhs = DVector::from_fn(COLUMNS, |r, _| rhs[r] / norm[r]);
     let unit = box_solve(&a, &rhs, &[0.0; COLUMNS], &[f64::INFINITY; COLUMNS]);
     let c: [f64; COLUMNS] = core::array::from_fn(|j| unit[j] / norm[j]);
-    let prediction: Vec<f64> = (0..p.len())
-        .map(|i| x.iter().zip(&c).map(|(col, cj)| cj * col[i]).sum::<f64>() + offset)
-        .collect();
+    let mut prediction = vec![0.0; p.len()];
+    for_each_combination(&x, &c, p.len(), |i, sum| prediction[i] = sum + offset);
     Point {
         shares: core::array::from_fn(|j| c[1 + j]),
         mass_kg: c[0],

@@ -997,7 +997,7 @@ fn reanchor(
 /// are read in blocks, each one contiguous (its products vectorise; a row across the columns
 /// strides through memory), and each sample's sum runs over the columns in order from -0.0, as
 /// `Iterator::sum` of its row: the same numbers bit for bit.
-fn for_each_combination(
+pub(super) fn for_each_combination(
     cols: &[impl AsRef<[f64]>],
     coef: &[f64],
     n: usize,
