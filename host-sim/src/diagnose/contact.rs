@@ -375,15 +375,15 @@ const COLUMNS: usize = ELEMENTS + 3;
 const FIRST_GROUP_ROWS: usize = 4;
 
 /// Rows `rows` of the normal equations of the columns `x` against the measured force less
-/// `offset`, weighted, over the `scored` samples: each row's upper triangle (from its
-/// diagonal; the entries before it stay 0) and its right-hand side. One pass over the samples
+/// `offset` (`force`, weighted by `weight`), over the `scored` samples: each row's upper
+/// triangle (from its diagonal; the entries before it stay 0) and its right-hand side. One pass over the samples
 /// reads each column once for all the rows, where a pass per row read them all once per row;
 /// every sum still runs in sample order from 0.0 (the same numbers bit for bit).
 fn normal_rows(
     x: &[&[f64]],
     rows: std::ops::Range<usize>,
     scored: &[usize],
-    p: &Prepared,
+    (weight, force): (&[f64], &[f64]),
     offset: f64,
 ) -> Vec<([f64; COLUMNS], f64)> {
     let mut out = vec![([0.0; COLUMNS], 0.0); rows.len()];
@@ -392,9 +392,9 @@ fn normal_rows(
         for (s, col) in sample.iter_mut().zip(x) {
             *s = col[i];
         }
-        let y = p.force[i] - offset;
+        let y = force[i] - offset;
         for (r, (row, rhs)) in rows.clone().zip(out.iter_mut()) {
-            let wr = p.weight[i] * sample[r];
+            let wr = weight[i] * sample[r];
             *rhs += wr * y;
             for (c, s) in row.iter_mut().zip(&sample).skip(r) {
                 *c += wr * s;
@@ -435,8 +435,24 @@ fn solve(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
     let scored: Vec<usize> = (0..p.len()).filter(|&i| p.weight[i] > 0.0).collect();
     // the rows in two groups of about equal work side by side
     let (first, second) = rayon::join(
-        || normal_rows(&x, 0..FIRST_GROUP_ROWS, &scored, p, offset),
-        || normal_rows(&x, FIRST_GROUP_ROWS..COLUMNS, &scored, p, offset),
+        || {
+            normal_rows(
+                &x,
+                0..FIRST_GROUP_ROWS,
+                &scored,
+                (&p.weight, &p.force),
+                offset,
+            )
+        },
+        || {
+            normal_rows(
+                &x,
+                FIRST_GROUP_ROWS..COLUMNS,
+                &scored,
+                (&p.weight, &p.force),
+                offset,
+            )
+        },
     );
     let rows: Vec<([f64; COLUMNS], f64)> = first.into_iter().chain(second).collect();
     let mut a = DMatrix::<f64>::zeros(COLUMNS, COLUMNS);
@@ -720,6 +736,65 @@ mod tests {
     use crate::diagnose::inverse::Protocol;
     use crate::record::Record;
     use lugre_servo::friction::FrictionModel;
+
+    /// The normal equations summed in one pass over the samples, in the two groups of rows
+    /// `solve` sums side by side, are each entry summed alone over the scored samples in their
+    /// order, bit for bit (as the pass per row summed them before session 56): the upper
+    /// triangle, the zeros below it and the right-hand side.
+    #[test]
+    fn the_one_pass_normal_equations_are_each_entry_summed_alone() {
+        let n = 3000;
+        // columns of unlike scales (accelerations, forces, rates), weights with zeros
+        let cols: Vec<Vec<f64>> = (0..COLUMNS)
+            .map(|j| {
+                (0..n)
+                    .map(|i| {
+                        let t = i as f64 * 1e-3;
+                        10f64.powi(j as i32 % 5 - 2) * (t * (1.0 + j as f64)).sin()
+                            + 1e-3 * ((i * 7919 + j * 104_729) % 1009) as f64
+                    })
+                    .collect()
+            })
+            .collect();
+        let x: Vec<&[f64]> = cols.iter().map(|c| c.as_slice()).collect();
+        let weight: Vec<f64> = (0..n)
+            .map(|i| {
+                if i % 7 == 3 {
+                    0.0
+                } else {
+                    0.5 + (i % 11) as f64 / 10.0
+                }
+            })
+            .collect();
+        let force: Vec<f64> = (0..n).map(|i| 300.0 * (i as f64 * 0.002).cos()).collect();
+        let offset = 12.5;
+        let scored: Vec<usize> = (0..n).filter(|&i| weight[i] > 0.0).collect();
+        let mut rows = normal_rows(&x, 0..FIRST_GROUP_ROWS, &scored, (&weight, &force), offset);
+        rows.extend(normal_rows(
+            &x,
+            FIRST_GROUP_ROWS..COLUMNS,
+            &scored,
+            (&weight, &force),
+            offset,
+        ));
+        assert_eq!(rows.len(), COLUMNS);
+        for (r, (row, rhs)) in rows.iter().enumerate() {
+            let mut want_rhs = 0.0;
+            for &i in &scored {
+                want_rhs += weight[i] * x[r][i] * (force[i] - offset);
+            }
+            assert_eq!(rhs.to_bits(), want_rhs.to_bits(), "rhs {r}");
+            for (c, got) in row.iter().enumerate() {
+                let mut want = 0.0;
+                if c >= r {
+                    for &i in &scored {
+                        want += weight[i] * x[r][i] * x[c][i];
+                    }
+                }
+                assert_eq!(got.to_bits(), want.to_bits(), "entry ({r}, {c})");
+            }
+        }
+    }
 
     /// Held inside the bounds, the elements' weighted sum is the held force, each moved by one
     /// common displacement from its own state (their differences, their memory, kept); beyond
