@@ -376,9 +376,10 @@ const FIRST_GROUP_ROWS: usize = 4;
 
 /// Rows `rows` of the normal equations of the columns `x` against the measured force less
 /// `offset` (`force`, weighted by `weight`), over the `scored` samples: each row's upper
-/// triangle (from its diagonal; the entries before it stay 0) and its right-hand side. One pass over the samples
-/// reads each column once for all the rows, where a pass per row read them all once per row;
-/// every sum still runs in sample order from 0.0 (the same numbers bit for bit).
+/// triangle (from its diagonal; the entries before it stay 0) and its right-hand side. One
+/// pass over the samples reads each column once for all the rows, where a pass per row read
+/// them all once per row; every sum still runs in sample order from 0.0 (the same numbers bit
+/// for bit).
 fn normal_rows(
     x: &[&[f64]],
     rows: std::ops::Range<usize>,
@@ -434,25 +435,10 @@ fn solve(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
     let offset = model.friction.offset_force();
     let scored: Vec<usize> = (0..p.len()).filter(|&i| p.weight[i] > 0.0).collect();
     // the rows in two groups of about equal work side by side
+    let group = |rows| normal_rows(&x, rows, &scored, (&p.weight, &p.force), offset);
     let (first, second) = rayon::join(
-        || {
-            normal_rows(
-                &x,
-                0..FIRST_GROUP_ROWS,
-                &scored,
-                (&p.weight, &p.force),
-                offset,
-            )
-        },
-        || {
-            normal_rows(
-                &x,
-                FIRST_GROUP_ROWS..COLUMNS,
-                &scored,
-                (&p.weight, &p.force),
-                offset,
-            )
-        },
+        || group(0..FIRST_GROUP_ROWS),
+        || group(FIRST_GROUP_ROWS..COLUMNS),
     );
     let rows: Vec<([f64; COLUMNS], f64)> = first.into_iter().chain(second).collect();
     let mut a = DMatrix::<f64>::zeros(COLUMNS, COLUMNS);
@@ -769,14 +755,9 @@ mod tests {
         let force: Vec<f64> = (0..n).map(|i| 300.0 * (i as f64 * 0.002).cos()).collect();
         let offset = 12.5;
         let scored: Vec<usize> = (0..n).filter(|&i| weight[i] > 0.0).collect();
-        let mut rows = normal_rows(&x, 0..FIRST_GROUP_ROWS, &scored, (&weight, &force), offset);
-        rows.extend(normal_rows(
-            &x,
-            FIRST_GROUP_ROWS..COLUMNS,
-            &scored,
-            (&weight, &force),
-            offset,
-        ));
+        let group = |rows| normal_rows(&x, rows, &scored, (&weight, &force), offset);
+        let mut rows = group(0..FIRST_GROUP_ROWS);
+        rows.extend(group(FIRST_GROUP_ROWS..COLUMNS));
         assert_eq!(rows.len(), COLUMNS);
         for (r, (row, rhs)) in rows.iter().enumerate() {
             let mut want_rhs = 0.0;
