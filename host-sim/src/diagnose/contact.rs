@@ -225,12 +225,13 @@ struct State {
 
 /// One point of the search: the unit elements of break distances `d` with `model`'s levels,
 /// effects and viscous term, slipping towards the curve at `lag_rate` \[1/s\], along the
-/// measured motion of `p`.
+/// measured motion of `p`, whose scored samples (weight above zero) are `scored`.
 struct Trial<'a> {
     model: AxisModel,
     d: &'a [f64; ELEMENTS],
     lag_rate: f64,
     p: &'a Prepared,
+    scored: &'a [usize],
 }
 
 /// The unit elements of a trial along the record. Inside a rest of the reading the elements
@@ -421,7 +422,7 @@ struct Point {
 /// The shares, the mass, the viscous scale and the damping that fit the filtered force best
 /// (least squares, each at least zero), with the unit elements held at the rests by `shares`.
 fn solve(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
-    let (model, p) = (&t.model, t.p);
+    let (model, p, scored) = (&t.model, t.p, t.scored);
     let b = basis(t, shares);
     let mut raw: Vec<&[f64]> = b.elements.iter().map(|c| c.as_slice()).collect();
     raw.push(&b.viscous);
@@ -433,9 +434,8 @@ fn solve(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
     let mut x: Vec<&[f64]> = vec![&p.acceleration_filtered];
     x.extend(filtered.iter().map(|c| c.as_slice()));
     let offset = model.friction.offset_force();
-    let scored: Vec<usize> = (0..p.len()).filter(|&i| p.weight[i] > 0.0).collect();
     // the rows in two groups of about equal work side by side
-    let group = |rows| normal_rows(&x, rows, &scored, (&p.weight, &p.force), offset);
+    let group = |rows| normal_rows(&x, rows, scored, (&p.weight, &p.force), offset);
     let (first, second) = rayon::join(
         || group(0..FIRST_GROUP_ROWS),
         || group(FIRST_GROUP_ROWS..COLUMNS),
@@ -538,6 +538,8 @@ pub fn check(
         return None;
     }
     let d = ladder(fs / sigma0);
+    // the samples every solution is scored on: the record's, found once for the search
+    let scored: Vec<usize> = (0..p.len()).filter(|&i| p.weight[i] > 0.0).collect();
     let ln_ranges: [(f64, f64); COORDINATES] =
         core::array::from_fn(|j| (SEARCHED[j].1 .0.ln(), SEARCHED[j].1 .1.ln()));
     let units = |u: [f64; COORDINATES]| -> [f64; COORDINATES] {
@@ -551,6 +553,7 @@ pub fn check(
             d: &d,
             lag_rate: x[0],
             p,
+            scored: &scored,
         };
         if settled {
             settle(&t, shares)
@@ -862,6 +865,8 @@ mod tests {
             d: &d,
             lag_rate: 1e5,
             p: &p,
+            // `basis` alone: no solution is scored
+            scored: &[],
         };
         let b = basis(&trial, &shares);
         let at = |t_s: f64| (t_s / p.dt).round() as usize;
