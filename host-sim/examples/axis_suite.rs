@@ -53,7 +53,7 @@ use std::path::Path;
 /// set (740.., offset 45) is not one: session 35 studied its dwell miss 20745. Session 44's
 /// effect-free seeds skip 1000..1009, the axes of the calibration's first effect. With
 /// `--shapes b` the same command runs [`NEVER_RUN_B`] instead.
-const NEVER_RUN: [NeverRun; 14] = [
+const NEVER_RUN: [NeverRun; 15] = [
     ("never-run s35", &[(770, 30)], 50, 5),
     ("never-run s38", &[(800, 30)], 55, 5),
     ("never-run s39", &[(830, 30)], 60, 5),
@@ -68,6 +68,7 @@ const NEVER_RUN: [NeverRun; 14] = [
     ("never-run s54", &[(2430, 30)], 12_020, 10),
     ("never-run s55", &[(2460, 30)], 12_030, 10),
     ("never-run s56", &[(2490, 30)], 12_040, 10),
+    ("never-run s57", &[(2520, 30)], 12_050, 10),
 ];
 
 /// The never-run checks of family B's shapes (`--unseen --shapes b`;
