@@ -539,7 +539,7 @@ pub fn check(
     }
     let d = ladder(fs / sigma0);
     // the samples every solution is scored on: the record's, found once for the search
-    let scored: Vec<usize> = (0..p.len()).filter(|&i| p.weight[i] > 0.0).collect();
+    let scored: Vec<usize> = p.scored_samples().collect();
     let ln_ranges: [(f64, f64); COORDINATES] =
         core::array::from_fn(|j| (SEARCHED[j].1 .0.ln(), SEARCHED[j].1 .1.ln()));
     let units = |u: [f64; COORDINATES]| -> [f64; COORDINATES] {

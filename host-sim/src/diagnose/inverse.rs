@@ -449,15 +449,18 @@ impl Prepared {
         self.force_norm = scored_norm(&self.force, &self.weight);
     }
 
+    /// The scored samples (weight above zero; [`Self::leave_out`] sets it to zero), in order.
+    pub fn scored_samples(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.len()).filter(|&i| self.weight[i] > 0.0)
+    }
+
     /// `100 sqrt(sum e_i) / sqrt(sum F_i^2)` over the scored samples counted alike (every
     /// weight above zero as 1, as before any [`Self::reweigh`]), for a squared force error
     /// `e_i = square(i)` \[N^2\] at each sample [%].
     pub fn plain_pct(&self, square: impl Fn(usize) -> f64) -> f64 {
-        let (e, f) = (0..self.len())
-            .filter(|&i| self.weight[i] > 0.0)
-            .fold((0.0, 0.0), |(e, f), i| {
-                (e + square(i), f + self.force[i] * self.force[i])
-            });
+        let (e, f) = self.scored_samples().fold((0.0, 0.0), |(e, f), i| {
+            (e + square(i), f + self.force[i] * self.force[i])
+        });
         100.0 * (e / f).sqrt()
     }
 
