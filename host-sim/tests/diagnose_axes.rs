@@ -375,7 +375,7 @@ fn the_first_baseline_sets_the_weights_the_full_search_would() {
         diagnose::motion_weights(&p, &own, &spread, diagnose::MOTION_WEIGHT_FLOOR)
     };
     let (w_first, w_full) = (weights(&first), weights(&full));
-    let moving: Vec<usize> = (0..p.len()).filter(|&i| p.weight[i] > 0.0).collect();
+    let moving: Vec<usize> = p.scored_samples().collect();
     let rms = (moving
         .iter()
         .map(|&i| (w_first[i] - w_full[i]).powi(2))

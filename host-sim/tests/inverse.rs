@@ -160,13 +160,11 @@ fn clamped_sinusoid() -> (Record, Prepared, AxisModel, Vec<bool>) {
 fn unresolved_samples_are_the_abrupt_stops_and_a_high_floor_keeps_every_sample() {
     use host_sim::diagnose::unresolved;
     let (rec, p, truth, near_kink) = clamped_sinusoid();
-    let scored = p.weight.iter().filter(|w| **w > 0.0).count();
+    let scored = p.scored_samples().count();
     let mut left_out = Vec::new();
     for floor in [0.0, 0.01] {
         let drop = unresolved(&rec, "r.csv", Protocol::default(), &p, &truth, floor);
-        let out: Vec<usize> = (0..p.len())
-            .filter(|&i| drop[i] && p.weight[i] > 0.0)
-            .collect();
+        let out: Vec<usize> = p.scored_samples().filter(|&i| drop[i]).collect();
         let before = p.rel_err_pct(&truth.predict(&p));
         let mut kept = p.clone();
         kept.leave_out(&drop);
@@ -210,8 +208,8 @@ fn motion_weights_discount_the_kinks_and_keep_smooth_motion() {
     let w = motion_weights(&p, &own, &spread, MOTION_WEIGHT_FLOOR);
     assert!(w.iter().all(|w| *w > 0.0 && *w <= 1.0));
     let scored = |near: bool| -> Vec<f64> {
-        (0..p.len())
-            .filter(|&i| p.weight[i] > 0.0 && near_kink[i] == near)
+        p.scored_samples()
+            .filter(|&i| near_kink[i] == near)
             .map(|i| w[i])
             .collect()
     };
