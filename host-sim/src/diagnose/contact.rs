@@ -31,11 +31,14 @@
 //! the static level over the Coulomb one are searched in ln by a Nelder-Mead simplex from the
 //! best of a small grid (the model's curve and curves of the contact's own).
 //!
-//! **When and decision.** The diagnosis tries the contact only where the final model leaves
-//! more than the measurement accounts for (`Unexplained::beyond_measurement`): where the model
-//! errs within the measurement, a contact that cuts its error further fits the reading, not
-//! the friction (tried on every record, it cut 16..55 % on 3 of 100 effect-free LuGre
-//! calibration records, each with the model at or under the truth's floor). There it
+//! **When and decision.** The diagnosis tries the contact only where none of the eight effects
+//! is significant on the final model and the model leaves more than the measurement accounts
+//! for (`Unexplained::beyond_measurement`; together, `Diagnosis::beyond_the_eight`). Where an
+//! effect is significant the model lacks it, and a contact in the bristle's place would be
+//! fitted to the missing effect (since session 59; until then it was tried there too). Where
+//! the model errs within the measurement, a contact that cuts its error further fits the
+//! reading, not the friction (tried on every record, it cut 16..55 % on 3 of 100 effect-free
+//! LuGre calibration records, each with the model at or under the truth's floor). There it
 //! describes what the model leaves ([`judge`]) when it cuts the model's error by at least
 //! [`CONTACT_MIN_CUT`] with a `dBIC` above 10, counting as its extra parameters the elements
 //! with a share, less the two they replace (the bristle stiffness and a level), and the lag
@@ -43,7 +46,7 @@
 
 use super::fit::{box_solve, for_each_combination};
 use super::inverse::{AxisModel, Prepared};
-use lugre_servo::friction::{Levels, LugreParams};
+use lugre_servo::friction::{EffectKind, Levels, LugreParams};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -192,9 +195,27 @@ impl core::fmt::Display for ContactCheck {
     }
 }
 
-/// What the diagnosis says where it did not try the contact.
+/// What the diagnosis says where it did not try the contact because the final model leaves
+/// no more than the measurement accounts for.
 pub const NOT_TRIED: &str = "a Maxwell-slip contact in the bristle's place was not tried: the \
      model leaves no more than the measurement accounts for";
+
+/// What the diagnosis says where the final model has no friction a contact could replace (a
+/// Coulomb level or bristle stiffness that is not positive).
+pub const NO_FRICTION: &str = "a Maxwell-slip contact in the bristle's place was not tried: the \
+     model has no friction to replace (its Coulomb level or bristle stiffness is not positive)";
+
+/// What the diagnosis says where it did not try the contact because `effect` is significant
+/// on the final model: the contact is the check of what none of the eight effects describes,
+/// so the effect is added first.
+pub fn not_tried_for(effect: EffectKind) -> String {
+    format!(
+        "a Maxwell-slip contact in the bristle's place was not tried: {name} is significant, and \
+         the contact is the check of what none of the eight effects describes (add {name} first: \
+         `--add {name}` or `--auto`)",
+        name = effect.name()
+    )
+}
 
 /// What a contact that describes what the model leaves says.
 pub const DESCRIBES: &str = "it describes what the model leaves: the contact has presliding \
