@@ -163,6 +163,29 @@ fn asymmetry_is_found_where_the_baseline_has_no_viscous_term() {
         "{}",
         report(&d)
     );
+    // the contact is the check of what none of the eight effects describes: with asymmetry
+    // significant it is not tried, and the diagnosis says to add it first
+    assert!(d.contact.is_none());
+    let why = d.contact_not_tried().expect("not tried");
+    assert!(
+        why.contains("asymmetry is significant") && why.contains("--add asymmetry"),
+        "{why}"
+    );
+    // fitted anyway in this baseline's place (its viscous column zero on every sample), the
+    // contact gets its elements and errs near the model (before session 59 the scaling made
+    // its normal equations 0/0: no element, 100 %)
+    let fit = &d.stages[0].fit;
+    let c = diagnose::contact::check(
+        &fit.model,
+        &fit.prediction,
+        &d.prepared,
+        d.effective_samples,
+    )
+    .expect("a contact fitted");
+    assert!(
+        !c.elements.is_empty() && c.rel_err_pct < 1.5 * fit.rel_err_pct,
+        "{c}"
+    );
 }
 
 /// Parsimony between nested effects (`diagnose::NESTED`): on an independent offset record
@@ -664,6 +687,10 @@ fn a_contact_that_is_not_lugre_is_not_called_explained() {
                 ContactKind::LuGre => {
                     assert!(!u.beyond_measurement(), "{u}");
                     assert!(d.contact.is_none());
+                    assert_eq!(
+                        d.contact_not_tried().as_deref(),
+                        Some(diagnose::contact::NOT_TRIED)
+                    );
                     assert!(!c.describes && c.rel_err_pct > fit.rel_err_pct);
                     // the report says it was not tried, and shows no contact
                     let html = diagnose::report::html(&d, "axis.csv", None);
@@ -676,6 +703,7 @@ fn a_contact_that_is_not_lugre_is_not_called_explained() {
                     assert!(fit.rel_err_pct > 3.0 * floor);
                     assert!(c.describes && c.rel_err_pct < 0.5 * fit.rel_err_pct);
                     let tried = d.contact.as_ref().expect("tried");
+                    assert!(d.contact_not_tried().is_none());
                     assert_eq!(tried.rel_err_pct.to_bits(), c.rel_err_pct.to_bits());
                     // the report shows it: its bar beside the model's, its force along the
                     // record, a row per element and its parameters

@@ -258,7 +258,7 @@ fn diagnosis_chapter(out: &Path) -> Result<()> {
                 "no better; LuGre's contact stays"
             }
         ),
-        None => println!("     {}", diagnose::contact::NOT_TRIED),
+        None => println!("     {}", d.contact_not_tried().unwrap_or_default()),
     }
     let report = out.join("diagnosis.html");
     std::fs::write(&report, diagnose::report::html(&d, &name, None))

@@ -111,9 +111,11 @@ pub struct JsonOut<'a> {
     pub search_edges: Vec<diagnose::SearchEdge>,
     /// The final model with a Maxwell-slip contact in its bristle's place
     /// (`diagnose::contact::ContactCheck`): whether a contact with presliding memory and
-    /// frictional lag describes what the model leaves (null where the model leaves no more than
-    /// the measurement accounts for: not tried).
+    /// frictional lag describes what the model leaves (null where it was not tried:
+    /// `contact_not_tried` says why).
     pub contact: Option<&'a diagnose::contact::ContactCheck>,
+    /// Why the contact was not tried (`Diagnosis::contact_not_tried`; null where it was).
+    pub contact_not_tried: Option<String>,
     /// Where the diagnosis spent its time \[s\] (`diagnose::PhaseTimes`).
     pub times: diagnose::PhaseTimes,
 }
@@ -217,6 +219,7 @@ pub fn run(a: &Args) -> Result<()> {
             notes: &d.prepared.notes,
             search_edges: diagnose::effect_search_edges(&last.fit.model),
             contact: d.contact.as_ref(),
+            contact_not_tried: d.contact_not_tried(),
             times: d.times,
         };
         super::write_json(path, &out)?;
@@ -504,7 +507,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
             }
             match &d.contact {
                 Some(c) => println!("   a Maxwell-slip contact in the bristle's place {c}"),
-                None => println!("   {}", diagnose::contact::NOT_TRIED),
+                None => println!("   {}", d.contact_not_tried().unwrap_or_default()),
             }
         }
     }

@@ -892,9 +892,10 @@ pub struct Diagnosis {
     pub protocol: Protocol,
     /// The final model with its bristle replaced by a Maxwell-slip contact
     /// ([`contact::check`]): whether a contact with presliding memory and frictional lag
-    /// describes what the model leaves. Tried only where the final model leaves more than the
-    /// measurement accounts for ([`Unexplained::beyond_measurement`]; `None` elsewhere, and
-    /// where the model has no friction to replace).
+    /// describes what the model leaves. Tried only where the final stage ends in
+    /// [`BEYOND_THE_EIGHT`] ([`Self::beyond_the_eight`]: no candidate significant, yet the
+    /// model leaves more than the measurement accounts for); `None` elsewhere, and where the
+    /// model has no friction to replace ([`Self::contact_not_tried`] says which).
     pub contact: Option<contact::ContactCheck>,
     /// Where the diagnosis spent its time.
     pub times: PhaseTimes,
@@ -911,6 +912,20 @@ impl Diagnosis {
     pub fn beyond_the_eight(&self, stage: &Stage) -> bool {
         !stage.candidates.iter().any(|c| c.significant)
             && self.unexplained(stage).beyond_measurement()
+    }
+
+    /// Why the contact was not tried ([`Self::contact`] is `None`), in words; `None` where it
+    /// was.
+    pub fn contact_not_tried(&self) -> Option<String> {
+        if self.contact.is_some() {
+            return None;
+        }
+        let last = &self.stages[self.stages.len() - 1];
+        Some(match last.candidates.iter().find(|c| c.significant) {
+            Some(c) => contact::not_tried_for(c.kind),
+            None if self.unexplained(last).beyond_measurement() => contact::NO_FRICTION.to_string(),
+            None => contact::NOT_TRIED.to_string(),
+        })
     }
 
     /// What `stage`'s model leaves against what the measurement accounts for.
@@ -1038,13 +1053,17 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);
         stages.push(stage(Some(e), fit, &on, rank, &mut times));
     }
-    let last = &stages[stages.len() - 1].fit;
-    // a contact is tried only where there is something beyond the measurement to describe
+    let last_stage = &stages[stages.len() - 1];
+    let last = &last_stage.fit;
+    // the contact is the check of what none of the eight effects describes: tried only where
+    // none is significant on the final model, yet it leaves more than the measurement accounts
+    // for (where one is significant, the model lacks it, and a contact fitted in its place
+    // would describe the missing effect, not the contact)
     let contact = timed(&mut times.contact_s, || {
-        unexplained(&p, motion_spread_pct, &last.prediction)
-            .beyond_measurement()
-            .then(|| contact::check(&last.model, &last.prediction, &p, n_eff))
-            .flatten()
+        (!last_stage.candidates.iter().any(|c| c.significant)
+            && unexplained(&p, motion_spread_pct, &last.prediction).beyond_measurement())
+        .then(|| contact::check(&last.model, &last.prediction, &p, n_eff))
+        .flatten()
     });
     times.total_s = start.elapsed().as_secs_f64();
     Ok(Diagnosis {

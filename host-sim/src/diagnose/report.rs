@@ -695,7 +695,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         ),
         None => format!(
             "<p>{}.</p>",
-            escape(&capitalised(super::contact::NOT_TRIED))
+            escape(&capitalised(&d.contact_not_tried().unwrap_or_default()))
         ),
     };
     out += "<p>Error = 100 ||F - F_hat|| / ||F|| on the force filtered at 20 Hz, over the samples where the axis moves \
