@@ -174,18 +174,24 @@ fn asymmetry_is_found_where_the_baseline_has_no_viscous_term() {
     // fitted anyway in this baseline's place (its viscous column zero on every sample), the
     // contact gets its elements and errs near the model (before session 59 the scaling made
     // its normal equations 0/0: no element, 100 %)
+    let (fit, c) = (&d.stages[0].fit, contact_in_the_baselines_place(&d));
+    assert!(
+        !c.elements.is_empty() && c.rel_err_pct < 1.5 * fit.rel_err_pct,
+        "{c}"
+    );
+}
+
+/// The Maxwell-slip contact fitted in the place of `d`'s baseline, whether or not the diagnosis
+/// tried it there.
+fn contact_in_the_baselines_place(d: &Diagnosis) -> diagnose::contact::ContactCheck {
     let fit = &d.stages[0].fit;
-    let c = diagnose::contact::check(
+    diagnose::contact::check(
         &fit.model,
         &fit.prediction,
         &d.prepared,
         d.effective_samples,
     )
-    .expect("a contact fitted");
-    assert!(
-        !c.elements.is_empty() && c.rel_err_pct < 1.5 * fit.rel_err_pct,
-        "{c}"
-    );
+    .expect("a contact fitted")
 }
 
 /// Parsimony between nested effects (`diagnose::NESTED`): on an independent offset record
@@ -672,16 +678,10 @@ fn a_contact_that_is_not_lugre_is_not_called_explained() {
             );
             assert!(first_significant(&d.stages[0].candidates).is_none());
             ratios.push(u.ratio());
-            // the diagnosis tries the contact where the model leaves more than the measurement
-            // accounts for; here it is tried on either contact, to compare
-            let fit = &d.stages[0].fit;
-            let c = diagnose::contact::check(
-                &fit.model,
-                &fit.prediction,
-                &d.prepared,
-                d.effective_samples,
-            )
-            .expect("a contact fitted");
+            // the diagnosis tries the contact where no candidate is significant and the model
+            // leaves more than the measurement accounts for; here it is tried on either
+            // contact, to compare
+            let (fit, c) = (&d.stages[0].fit, contact_in_the_baselines_place(&d));
             println!("  a Maxwell-slip contact in the bristle's place {c}");
             match contact {
                 ContactKind::LuGre => {
