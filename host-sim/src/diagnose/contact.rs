@@ -44,7 +44,7 @@
 //! with a share, less the two they replace (the bristle stiffness and a level), and the lag
 //! rate ([`ContactCheck::extra_parameters`]).
 
-use super::fit::{box_solve, for_each_combination};
+use super::fit::{box_solve, for_each_combination, unit_scale};
 use super::inverse::{AxisModel, Prepared};
 use lugre_servo::friction::{EffectKind, Levels, LugreParams};
 use nalgebra::{DMatrix, DVector};
@@ -150,16 +150,16 @@ impl ContactCheck {
 /// Said after its subject: "a Maxwell-slip contact in the bristle's place ...".
 impl core::fmt::Display for ContactCheck {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        let (near, far) = self
-            .elements
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(a, b), e| {
-                (a.min(e.break_distance_m), b.max(e.break_distance_m))
-            });
         if self.elements.is_empty() {
             // no range of break distances and no stiffness to state
             write!(f, "(no element with a share of the curve")?;
         } else {
+            let (near, far) = self
+                .elements
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(a, b), e| {
+                    (a.min(e.break_distance_m), b.max(e.break_distance_m))
+                });
             write!(
                 f,
                 "({} elements breaking at {:.1e}..{:.1e} m, stiffness {:.3e} N/m",
@@ -481,7 +481,7 @@ fn solve(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
     }
     // columns of forces, accelerations and deflection rates differ by 1e6 and more: solved
     // on unit columns (the bounds at zero and infinity are the same there)
-    let norm: [f64; COLUMNS] = core::array::from_fn(|j| column_scale(a[(j, j)]));
+    let norm: [f64; COLUMNS] = core::array::from_fn(|j| unit_scale(a[(j, j)].sqrt()));
     let a = DMatrix::from_fn(COLUMNS, COLUMNS, |r, c| a[(r, c)] / (norm[r] * norm[c]));
     let rhs = DVector::from_fn(COLUMNS, |r, _| rhs[r] / norm[r]);
     let unit = box_solve(&a, &rhs, &[0.0; COLUMNS], &[f64::INFINITY; COLUMNS]);
@@ -495,21 +495,6 @@ fn solve(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Point {
         damping_n_s_per_m: c[ELEMENTS + 2],
         rss: p.weighted_rss_filtered(&prediction),
         prediction,
-    }
-}
-
-/// The scale that makes a column of the normal equations a unit one: the root of its diagonal
-/// entry (its weighted sum of squares). A column that is zero on every scored sample (the
-/// viscous force of a model whose viscous coefficient was held at zero) keeps the scale 1: its
-/// row and column stay zero and the solution leaves its coefficient at zero. (Its root floored
-/// at the smallest positive number instead squared to 0 and made the whole matrix 0/0: every
-/// coefficient came back zero, the contact "erred 100 %" with no element, on 3 of 7 records
-/// of session 59's first look.)
-fn column_scale(diagonal: f64) -> f64 {
-    if diagonal.is_finite() && diagonal > 0.0 {
-        diagonal.sqrt()
-    } else {
-        1.0
     }
 }
 

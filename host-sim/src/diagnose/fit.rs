@@ -875,19 +875,11 @@ fn linearise<'p>(
         }
     }
 
-    // Scaled normal equations (robust to a column that carries nothing: an all-zero column,
-    // e.g. the viscous asymmetry of a model with sigma2 = 0, gets scale 1, not a tiny floor
-    // whose square underflows and turns its products into 0/0).
+    // Scaled normal equations (robust to a column that carries nothing, [`unit_scale`]: e.g.
+    // the viscous asymmetry of a model with sigma2 = 0)
     let scale: Vec<f64> = cols_f
         .iter()
-        .map(|c| {
-            let rms = (c.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
-            if rms > 1e-100 {
-                rms
-            } else {
-                1.0
-            }
-        })
+        .map(|c| unit_scale((c.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt()))
         .collect();
     // One pass over the (strided) samples accumulates every product: the columns are read
     // once, not once per pair. Each sum runs in sample order from -0.0, as `Iterator::sum`.
@@ -1016,6 +1008,21 @@ pub(super) fn for_each_combination(
         for (o, a) in acc.iter().enumerate() {
             each(start + o, *a);
         }
+    }
+}
+
+/// The scale that makes a regression column a unit one, from its norm (an rms, or the root of
+/// its sum of squares): the norm itself, or 1 for a column that carries nothing (a norm under
+/// 1e-100, or not finite). Its row and column of the normal equations then stay zero and the
+/// solution leaves its coefficient at zero. A floor at a tiny number instead squares to zero and
+/// turns the zero column's products into 0/0, which poisons the whole solution (the
+/// Maxwell-slip contact's viscous column of a model with sigma2 = 0 zeroed every coefficient of
+/// the contact until session 59).
+pub(crate) fn unit_scale(norm: f64) -> f64 {
+    if norm.is_finite() && norm > 1e-100 {
+        norm
+    } else {
+        1.0
     }
 }
 

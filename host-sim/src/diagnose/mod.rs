@@ -715,6 +715,14 @@ fn unexplained(p: &Prepared, motion_spread_pct: f64, prediction: &[f64]) -> Unex
     }
 }
 
+/// Whether `stage` ends in [`BEYOND_THE_EIGHT`]: no candidate is significant, yet its model
+/// leaves more than the measurement of `p` accounts for ([`Diagnosis::beyond_the_eight`], here
+/// before the diagnosis exists).
+fn ends_beyond_the_eight(p: &Prepared, motion_spread_pct: f64, stage: &Stage) -> bool {
+    !stage.candidates.iter().any(|c| c.significant)
+        && unexplained(p, motion_spread_pct, &stage.fit.prediction).beyond_measurement()
+}
+
 /// What a stage without a significant candidate says of a model that leaves more than the
 /// measurement accounts for ([`Unexplained::beyond_measurement`]).
 pub const BEYOND_THE_EIGHT: &str = "none of the eight effects describes what it leaves: the \
@@ -910,8 +918,7 @@ impl Diagnosis {
     /// Whether `stage` ends in [`BEYOND_THE_EIGHT`]: no candidate is significant, yet its model
     /// leaves more than the measurement accounts for.
     pub fn beyond_the_eight(&self, stage: &Stage) -> bool {
-        !stage.candidates.iter().any(|c| c.significant)
-            && self.unexplained(stage).beyond_measurement()
+        ends_beyond_the_eight(&self.prepared, self.motion_spread_pct, stage)
     }
 
     /// Why the contact was not tried ([`Self::contact`] is `None`), in words; `None` where it
@@ -1056,14 +1063,12 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     let last_stage = &stages[stages.len() - 1];
     let last = &last_stage.fit;
     // the contact is the check of what none of the eight effects describes: tried only where
-    // none is significant on the final model, yet it leaves more than the measurement accounts
-    // for (where one is significant, the model lacks it, and a contact fitted in its place
-    // would describe the missing effect, not the contact)
+    // the final stage ends beyond them (where one is significant, the model lacks it, and a
+    // contact fitted in its place would describe the missing effect, not the contact)
     let contact = timed(&mut times.contact_s, || {
-        (!last_stage.candidates.iter().any(|c| c.significant)
-            && unexplained(&p, motion_spread_pct, &last.prediction).beyond_measurement())
-        .then(|| contact::check(&last.model, &last.prediction, &p, n_eff))
-        .flatten()
+        ends_beyond_the_eight(&p, motion_spread_pct, last_stage)
+            .then(|| contact::check(&last.model, &last.prediction, &p, n_eff))
+            .flatten()
     });
     times.total_s = start.elapsed().as_secs_f64();
     Ok(Diagnosis {
