@@ -715,12 +715,30 @@ fn unexplained(p: &Prepared, motion_spread_pct: f64, prediction: &[f64]) -> Unex
     }
 }
 
-/// Whether `stage` ends in [`BEYOND_THE_EIGHT`]: no candidate is significant, yet its model
-/// leaves more than the measurement of `p` accounts for ([`Diagnosis::beyond_the_eight`], here
-/// before the diagnosis exists).
-fn ends_beyond_the_eight(p: &Prepared, motion_spread_pct: f64, stage: &Stage) -> bool {
-    !stage.candidates.iter().any(|c| c.significant)
-        && unexplained(p, motion_spread_pct, &stage.fit.prediction).beyond_measurement()
+/// How a stage ends against the eight effects: the one gate that decides whether the contact
+/// is tried ([`Ending::BeyondTheEight`] only) and, where it is not, says why.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Ending {
+    /// `effect` is the first significant candidate: the stage's model lacks it.
+    Significant(EffectKind),
+    /// No candidate is significant, and the model leaves no more than the measurement
+    /// accounts for.
+    WithinMeasurement,
+    /// [`BEYOND_THE_EIGHT`]: no candidate is significant, yet the model leaves more than the
+    /// measurement accounts for.
+    BeyondTheEight,
+}
+
+/// How `stage` ends on `p` ([`Ending`]; [`Diagnosis::ending`] once the diagnosis exists). What
+/// the model leaves is measured only where no candidate is significant.
+fn ending(p: &Prepared, motion_spread_pct: f64, stage: &Stage) -> Ending {
+    match stage.candidates.iter().find(|c| c.significant) {
+        Some(c) => Ending::Significant(c.kind),
+        None if unexplained(p, motion_spread_pct, &stage.fit.prediction).beyond_measurement() => {
+            Ending::BeyondTheEight
+        }
+        None => Ending::WithinMeasurement,
+    }
 }
 
 /// What a stage without a significant candidate says of a model that leaves more than the
@@ -918,7 +936,12 @@ impl Diagnosis {
     /// Whether `stage` ends in [`BEYOND_THE_EIGHT`]: no candidate is significant, yet its model
     /// leaves more than the measurement accounts for.
     pub fn beyond_the_eight(&self, stage: &Stage) -> bool {
-        ends_beyond_the_eight(&self.prepared, self.motion_spread_pct, stage)
+        self.ending(stage) == Ending::BeyondTheEight
+    }
+
+    /// How `stage` ends against the eight effects ([`Ending`]).
+    fn ending(&self, stage: &Stage) -> Ending {
+        ending(&self.prepared, self.motion_spread_pct, stage)
     }
 
     /// Why the contact was not tried ([`Self::contact`] is `None`), in words; `None` where it
@@ -927,11 +950,11 @@ impl Diagnosis {
         if self.contact.is_some() {
             return None;
         }
-        let last = &self.stages[self.stages.len() - 1];
-        Some(match last.candidates.iter().find(|c| c.significant) {
-            Some(c) => contact::not_tried_for(c.kind),
-            None if self.unexplained(last).beyond_measurement() => contact::NO_FRICTION.to_string(),
-            None => contact::NOT_TRIED.to_string(),
+        Some(match self.ending(&self.stages[self.stages.len() - 1]) {
+            Ending::Significant(effect) => contact::not_tried_for(effect),
+            Ending::WithinMeasurement => contact::NOT_TRIED.to_string(),
+            // the gate let it through: `contact::check` found no friction to replace
+            Ending::BeyondTheEight => contact::NO_FRICTION.to_string(),
         })
     }
 
@@ -1066,7 +1089,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     // the final stage ends beyond them (where one is significant, the model lacks it, and a
     // contact fitted in its place would describe the missing effect, not the contact)
     let contact = timed(&mut times.contact_s, || {
-        ends_beyond_the_eight(&p, motion_spread_pct, last_stage)
+        (ending(&p, motion_spread_pct, last_stage) == Ending::BeyondTheEight)
             .then(|| contact::check(&last.model, &last.prediction, &p, n_eff))
             .flatten()
     });
