@@ -720,10 +720,7 @@ fn run(
         .unwrap_or_default();
     row.first_dbic = cands.first().and_then(|c| c.delta_bic).unwrap_or(f64::NAN);
     row.nested_check = cands.iter().find_map(|c| c.nested_check);
-    row.first_significant = cands
-        .iter()
-        .find(|c| c.significant)
-        .map(|c| c.kind.to_string());
+    row.first_significant = d.stages[0].first_significant().map(|c| c.kind.to_string());
     row.candidates = cands
         .iter()
         .map(|c| {
@@ -741,7 +738,7 @@ fn run(
     row.force_noise_n = p.force_noise_n;
     row.force_noise_in_band_n = p.force_noise_in_band_n;
     row.unexplained = Some(d.unexplained(&d.stages[0]));
-    row.unexplained_added = Some(d.unexplained(&d.stages[d.stages.len() - 1]));
+    row.unexplained_added = Some(d.unexplained(d.last_stage()));
     row.contact = d.contact.clone();
     row.dwell_caution = cands
         .iter()
@@ -760,8 +757,8 @@ fn run(
     row.peak_trend_dbic = d.breakaway.trend.as_ref().map_or(f64::NAN, |t| t.delta_bic);
     row.baseline_pct = d.stages[0].fit.rel_err_pct;
     row.table_asymmetric_pct = d.tables.asymmetric.rel_err_pct;
-    row.added_pct = d.stages[d.stages.len() - 1].fit.rel_err_pct;
+    row.added_pct = d.last_stage().fit.rel_err_pct;
     row.baseline_plain_pct = d.stages[0].plain_rel_err_pct;
-    row.added_plain_pct = d.stages[d.stages.len() - 1].plain_rel_err_pct;
+    row.added_plain_pct = d.last_stage().plain_rel_err_pct;
     row
 }

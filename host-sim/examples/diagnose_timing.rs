@@ -105,9 +105,7 @@ fn main() {
             let d = diagnose::diagnose(&rec, &path, &Options::default()).expect("diagnosis");
             let seconds = start.elapsed().as_secs_f64();
             let first_significant = d.stages[0]
-                .candidates
-                .iter()
-                .find(|c| c.significant)
+                .first_significant()
                 .map(|c| c.kind.name().to_string());
             let restarts = d.stages[0].restarts.len();
             let t = d.times;

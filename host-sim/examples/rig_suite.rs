@@ -86,7 +86,7 @@ fn main() {
                         static_pct: d.tables.symmetric.rel_err_pct,
                         baseline_pct: d.stages[0].fit.rel_err_pct,
                         static_asym_pct: d.tables.asymmetric.rel_err_pct,
-                        suggested_pct: d.stages[d.stages.len() - 1].fit.rel_err_pct,
+                        suggested_pct: d.last_stage().fit.rel_err_pct,
                         added: d.stages[1..].iter().map(|s| s.label.clone()).collect(),
                         file,
                     }

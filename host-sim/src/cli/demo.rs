@@ -201,7 +201,7 @@ fn diagnosis_chapter(out: &Path) -> Result<()> {
     for f in &base.regimes.findings {
         println!("     - {f}");
     }
-    let Some(top) = base.candidates.iter().find(|c| c.significant) else {
+    let Some(top) = base.first_significant() else {
         println!("  3. no candidate effect is significant");
         return Ok(());
     };

@@ -181,7 +181,7 @@ pub fn run(a: &Args) -> Result<()> {
     };
     print_text(&d, validation, wall.elapsed().as_secs_f64());
     if let Some(path) = &a.json {
-        let last = &d.stages[d.stages.len() - 1];
+        let last = d.last_stage();
         let out = JsonOut {
             baseline_rel_err_pct: d.given_rel_err_pct.unwrap_or(d.stages[0].fit.rel_err_pct),
             candidates: &last.candidates,

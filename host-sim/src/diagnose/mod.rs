@@ -596,6 +596,12 @@ pub struct Stage {
 }
 
 impl Stage {
+    /// The first significant candidate in ranking order: the effect the stage's model lacks
+    /// most, if any.
+    pub fn first_significant(&self) -> Option<&Candidate> {
+        self.candidates.iter().find(|c| c.significant)
+    }
+
     /// The names of the stage's candidates for which `flag` holds, in ranking order (how some
     /// were fitted: [`Candidate::settled_as_stage`], [`Candidate::from_static_table`], ...).
     pub fn named_where(&self, flag: fn(&Candidate) -> bool) -> Vec<String> {
@@ -609,7 +615,7 @@ impl Stage {
     /// Where none of the stage's candidates is significant and the leading one comes near
     /// ([`Candidate::near_cut`]): that candidate and the sentence saying so.
     pub fn near_miss(&self) -> Option<(&Candidate, String)> {
-        if self.candidates.iter().any(|c| c.significant) {
+        if self.first_significant().is_some() {
             return None;
         }
         let c = self.candidates.first()?;
@@ -732,7 +738,7 @@ enum Ending {
 /// How `stage` ends on `p` ([`Ending`]; [`Diagnosis::ending`] once the diagnosis exists). What
 /// the model leaves is measured only where no candidate is significant.
 fn ending(p: &Prepared, motion_spread_pct: f64, stage: &Stage) -> Ending {
-    match stage.candidates.iter().find(|c| c.significant) {
+    match stage.first_significant() {
         Some(c) => Ending::Significant(c.kind),
         None if unexplained(p, motion_spread_pct, &stage.fit.prediction).beyond_measurement() => {
             Ending::BeyondTheEight
@@ -928,9 +934,14 @@ pub struct Diagnosis {
 }
 
 impl Diagnosis {
+    /// The final stage (a diagnosis has at least the baseline's).
+    pub fn last_stage(&self) -> &Stage {
+        &self.stages[self.stages.len() - 1]
+    }
+
     /// The final model.
     pub fn model(&self) -> &AxisModel {
-        &self.stages[self.stages.len() - 1].fit.model
+        &self.last_stage().fit.model
     }
 
     /// Whether `stage` ends in [`BEYOND_THE_EIGHT`]: no candidate is significant, yet its model
@@ -950,7 +961,7 @@ impl Diagnosis {
         if self.contact.is_some() {
             return None;
         }
-        Some(match self.ending(&self.stages[self.stages.len() - 1]) {
+        Some(match self.ending(self.last_stage()) {
             Ending::Significant(effect) => contact::not_tried_for(effect),
             Ending::WithinMeasurement => contact::NOT_TRIED.to_string(),
             // the gate let it through: `contact::check` found no friction to replace
@@ -1053,11 +1064,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     for k in 0..add.len() + opts.auto {
         let e = match add.get(k) {
             Some(e) => *e,
-            None => match stages[stages.len() - 1]
-                .candidates
-                .iter()
-                .find(|c| c.significant)
-            {
+            None => match stages[stages.len() - 1].first_significant() {
                 Some(c) => c.kind,
                 None => break,
             },
@@ -1192,7 +1199,7 @@ pub fn parameter_file(
     user_mass: Option<f64>,
 ) -> Result<crate::params_file::ParamFile> {
     let m = d.model();
-    let last = &d.stages[d.stages.len() - 1].fit;
+    let last = &d.last_stage().fit;
     let priors: Vec<String> = last.flags.priors.iter().map(|q| q.0.to_string()).collect();
     if priors.iter().any(|p| p == Param::Mass.label()) && user_mass.is_none() {
         return Err(Error::MassNotDetermined);
@@ -1200,7 +1207,7 @@ pub fn parameter_file(
     let mut file = crate::params_file::ParamFile::new(&m.friction, user_mass.unwrap_or(m.mass_kg));
     file.fit.source = Some("host-sim diagnose".into());
     // the error any tool reads on a record: every moving sample alike
-    file.fit.rel_err_pct = Some(d.stages[d.stages.len() - 1].plain_rel_err_pct);
+    file.fit.rel_err_pct = Some(d.last_stage().plain_rel_err_pct);
     file.fit.identified = last
         .estimates
         .iter()

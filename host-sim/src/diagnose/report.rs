@@ -618,7 +618,7 @@ pub fn html(d: &Diagnosis, name: &str, validation: Option<f64>) -> String {
 
 fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     let first = &d.stages[0];
-    let last = &d.stages[d.stages.len() - 1];
+    let last = d.last_stage();
     let pred_first = &first.fit.prediction;
     let pred_last = &last.fit.prediction;
     let mut history_labels: Vec<String> = d.stages.iter().map(|s| s.label.clone()).collect();
@@ -656,7 +656,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
             w[1].fit.rel_err_pct
         );
     }
-    if let Some(c) = first.candidates.iter().find(|c| c.significant) {
+    if let Some(c) = first.first_significant() {
         if d.stages.len() == 1 {
             out += &format!(
                 "<p>Most likely missing effect: <b>{}</b> ({}). Add it with <code>--add {}</code>.{}</p>",
