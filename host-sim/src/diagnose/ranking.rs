@@ -800,9 +800,11 @@ fn rest_independent_twin(
 /// model may have bent its Stribeck curve to mimic the missing effect (a hump with vs at the
 /// top speed mimicking a sub-linear viscous law), a local minimum the effect's own search
 /// cannot leave. The two starts are independent and run side by side. Where the candidate's
-/// fit is the table's ([`table_start`]), its fit from the previous model is a third start: with
-/// two table starts only, never-run asymmetry record 20001 ended at 0.96 % where the stage
-/// from the model reaches 0.60 % (session 48).
+/// fit is the table's ([`table_start`], which keeps the one from the previous model as
+/// `model_start`), the candidate is the table's start already, searched as a stage searches:
+/// the two starts are then the candidate's and the previous model's fit. (With two table
+/// starts only, never-run asymmetry record 20001 ended at 0.96 % where the stage from the model
+/// reaches 0.60 %, session 48; sessions 48..61 ran the table again beside both, a third start.)
 pub(super) fn stage_fit(
     e: EffectKind,
     candidate: &Fit,
@@ -810,18 +812,19 @@ pub(super) fn stage_fit(
     on: &Scope,
 ) -> Fit {
     let stage_search = |f: &Fit| on.polish(f, Some(e), Search::STAGE);
-    let ((from_candidate, from_model), from_table) = rayon::join(
-        || rayon::join(|| stage_search(candidate), || model_start.map(stage_search)),
-        || from_static_table(e, candidate, on),
+    let (from_candidate, other) = rayon::join(
+        || stage_search(candidate),
+        || match model_start {
+            Some(f) => stage_search(f),
+            None => from_static_table(e, candidate, on),
+        },
     );
-    // the candidate's start wins ties, as it did before the third start
-    let mut best = from_candidate;
-    for f in from_model.into_iter().chain([from_table]) {
-        if f.rss < best.rss {
-            best = f;
-        }
+    // the candidate's start wins ties
+    if other.rss < from_candidate.rss {
+        other
+    } else {
+        from_candidate
     }
-    best
 }
 
 /// A significant candidate's fit with its effect switched off again must not beat the current
