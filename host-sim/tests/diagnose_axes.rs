@@ -276,6 +276,28 @@ fn an_offset_the_baseline_bent_around_is_fitted_from_the_static_table() {
     assert!(d.tables.asymmetric.rel_err_pct < d.stages[0].fit.rel_err_pct);
 }
 
+/// Where the offset's candidate is its fit from the static table (the table start won), the
+/// nested check fits the offset as a stage from that candidate and from its fit from the model,
+/// and not from the table a second time (session 62, registration B3): on offset timing record
+/// 1047 (force actuator; the offset from the table 0.39 %, the asymmetry on top of its stage
+/// cutting 2 % more) the offset is kept, its stage is the one added, and it errs within 1.2x the
+/// noise floor.
+#[test]
+fn a_table_fitted_offset_is_staged_from_the_candidate_and_the_model() {
+    let (d, axis) = diagnose(Some("offset"), 1047, &["offset"]);
+    let c = &d.stages[0].candidates;
+    let offset = c.iter().find(|c| c.kind.name() == "offset").unwrap();
+    assert!(offset.from_static_table, "the premise: {}", report(&d));
+    assert_eq!(first_significant(c), Some("offset"), "{}", report(&d));
+    kept_says_why(offset, "asymmetry", &d);
+    let floor = truth_error_pct(&axis, &d.prepared);
+    let staged = d.stages[1].fit.rel_err_pct;
+    assert!(
+        staged <= 1.2 * floor,
+        "the offset's stage {staged:.3} % against the floor {floor:.3} %"
+    );
+}
+
 /// `effect`'s record `seed` names `effect` first, on its fit from the static table (the
 /// table's start won over the model's), within 1.2x the noise floor.
 fn named_from_the_static_table(effect: &'static str, seed: u64) -> Diagnosis {
