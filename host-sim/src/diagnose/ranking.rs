@@ -804,7 +804,10 @@ fn rest_independent_twin(
 /// `model_start`), the candidate is the table's start already, searched as a stage searches:
 /// the two starts are then the candidate's and the previous model's fit. (With two table
 /// starts only, never-run asymmetry record 20001 ended at 0.96 % where the stage from the model
-/// reaches 0.60 %, session 48; sessions 48..61 ran the table again beside both, a third start.)
+/// reaches 0.60 %, session 48. Sessions 48..61 ran the table again beside both, a third start
+/// that repeated the candidate's from nearly the same point: without it, on five never-timed
+/// offset and asymmetry records where it ran, the nested check took 2.01 s instead of 2.92 s
+/// and every output was the same; session 62, registration B3.)
 pub(super) fn stage_fit(
     e: EffectKind,
     candidate: &Fit,
@@ -812,7 +815,7 @@ pub(super) fn stage_fit(
     on: &Scope,
 ) -> Fit {
     let stage_search = |f: &Fit| on.polish(f, Some(e), Search::STAGE);
-    let (from_candidate, other) = rayon::join(
+    let (from_candidate, second) = rayon::join(
         || stage_search(candidate),
         || match model_start {
             Some(f) => stage_search(f),
@@ -820,8 +823,8 @@ pub(super) fn stage_fit(
         },
     );
     // the candidate's start wins ties
-    if other.rss < from_candidate.rss {
-        other
+    if second.rss < from_candidate.rss {
+        second
     } else {
         from_candidate
     }
