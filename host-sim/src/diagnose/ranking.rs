@@ -802,14 +802,14 @@ fn rest_independent_twin(
 /// cannot leave. The two starts are independent and run side by side. Where the candidate's
 /// fit is the table's ([`table_start`], which keeps the one from the previous model as
 /// `model_start`), the candidate is the table's start already, searched as a stage searches:
-/// the two starts are then the candidate's and the previous model's fit. (After a restart
+/// the two starts are then the candidate's and the previous model's fit. After a restart
 /// (`rank_after_restart`) the candidate's fit may instead be a refit on the new model that
-/// scored better than the table's; its start is then better than the table's too.) (With two table
-/// starts only, never-run asymmetry record 20001 ended at 0.96 % where the stage from the model
-/// reaches 0.60 %, session 48. Sessions 48..61 ran the table again beside both, a third start
-/// that repeated the candidate's from nearly the same point: without it, on five never-timed
-/// offset and asymmetry records where it ran, the nested check took 2.01 s instead of 2.92 s
-/// and every output was the same; session 62, registration B3.)
+/// scored better than the table's; its start is then better than the table's too. (With two
+/// table starts only, never-run asymmetry record 20001 ended at 0.96 % where the stage from
+/// the model reaches 0.60 %, session 48. Sessions 48..61 ran the table again beside both, a
+/// third start that repeated the candidate's from nearly the same point: without it, on five
+/// never-timed offset and asymmetry records where it ran, the nested check took 2.01 s
+/// instead of 2.92 s and every output was the same; session 62, registration B3.)
 pub(super) fn stage_fit(
     e: EffectKind,
     candidate: &Fit,
