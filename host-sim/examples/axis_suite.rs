@@ -50,9 +50,10 @@ use std::path::Path;
 /// effect seed offset, records per effect). Each has 30 effect-free records (session 45's, 20)
 /// and, per effect `k` in [`EFFECTS`]' order, 5 (sessions 45, 52..58, 60, 61 and 65, 10) from
 /// `20 000 + 100 k + offset` (sessions 52..58, 60 and 61 from 32 000, session 65 from 33 000:
-/// the 20 000 range was used up). Session 34's set (740.., offset 45) is not one: session 35 studied its dwell miss 20745.
-/// Session 44's effect-free seeds skip 1000..1009, the axes of the calibration's first effect.
-/// With `--shapes b` the same command runs [`NEVER_RUN_B`] instead.
+/// the 20 000 range was used up). Session 34's set (740.., offset 45) is not one: session 35
+/// studied its dwell miss 20745. Session 44's effect-free seeds skip 1000..1009, the axes of
+/// the calibration's first effect. With `--shapes b` the same command runs [`NEVER_RUN_B`]
+/// instead.
 const NEVER_RUN: [NeverRun; 19] = [
     ("never-run s35", &[(770, 30)], 50, 5),
     ("never-run s38", &[(800, 30)], 55, 5),
