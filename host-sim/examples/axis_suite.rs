@@ -47,14 +47,12 @@ use std::path::Path;
 
 /// The never-run checks: sets registered before they first ran, run once, and no rule or
 /// constant changed on their evidence (session, effect-free seeds as `(first, count)` runs,
-/// effect seed offset, records per effect). Each has 30 effect-free records (session 45's, 20)
-/// and, per effect `k` in [`EFFECTS`]' order, 5 (sessions 45, 52..58, 60, 61 and 65, 10) from
-/// `20 000 + 100 k + offset` (sessions 52..58, 60 and 61 from 32 000, session 65 from 33 000:
-/// the 20 000 range was used up). Session 34's set (740.., offset 45) is not one: session 35
-/// studied its dwell miss 20745. Session 44's effect-free seeds skip 1000..1009, the axes of
-/// the calibration's first effect. With `--shapes b` the same command runs [`NEVER_RUN_B`]
-/// instead.
-const NEVER_RUN: [NeverRun; 19] = [
+/// effect seed offset, records per effect). Effect `k` in [`EFFECTS`]' order takes its records
+/// from `20 000 + 100 k + offset`; offsets from 12 000 on start past the used-up 20 000 range.
+/// Session 34's set (740.., offset 45) is not one: session 35 studied its dwell miss 20745.
+/// Session 44's effect-free seeds skip 1000..1009, the axes of the calibration's first effect.
+/// With `--shapes b` the same command runs [`NEVER_RUN_B`] instead.
+const NEVER_RUN: &[NeverRun] = &[
     ("never-run s35", &[(770, 30)], 50, 5),
     ("never-run s38", &[(800, 30)], 55, 5),
     ("never-run s39", &[(830, 30)], 60, 5),
@@ -80,7 +78,7 @@ const NEVER_RUN: [NeverRun; 19] = [
 /// `generators::axis::Family`): effect records only (an effect-free record is the same in
 /// both families). Session 45's: the effect seeds of its family-A set, so each record that
 /// lands on the same draw has the same axis, schedule and noise with the other law.
-const NEVER_RUN_B: [NeverRun; 1] = [("family B s45", &[], 90, 10)];
+const NEVER_RUN_B: &[NeverRun] = &[("family B s45", &[], 90, 10)];
 
 /// A never-run set: its name, effect-free seed runs `(first, count)`, effect seed offset and
 /// records per effect.
@@ -492,9 +490,9 @@ fn unseen(family: Family) -> Vec<Job> {
     let (mut jobs, sets) = match family {
         Family::A => (
             block("held-out", &[(HELD_OUT.0, 50)], HELD_OUT.1, 10),
-            &NEVER_RUN[..],
+            NEVER_RUN,
         ),
-        Family::B => (Vec::new(), &NEVER_RUN_B[..]),
+        Family::B => (Vec::new(), NEVER_RUN_B),
     };
     for (set, free, offset, per_effect) in sets {
         jobs.extend(block(set, free, HELD_OUT.1 + offset, *per_effect));
