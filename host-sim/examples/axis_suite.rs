@@ -20,7 +20,9 @@
 //! LuGre (`generators::axis::Maxwell`): a friction model the diagnosis does not contain.
 //! `--shapes b` draws each hidden effect's shape from the other laws of family B
 //! (`generators::axis::Family`, written in session 45 before any run), the same axes,
-//! schedules and noise otherwise.
+//! schedules and noise otherwise. `--axes issue` draws the axes issue 9 describes its own check
+//! on (`generators::axis::Axes::Issue`: an ideal force actuator, 100..400 kg, soft and
+//! well-damped contacts), the same levels, effects, schedules and noise otherwise.
 //! `--write DIR
 //! [--seed N]` writes one record per effect to try.
 //!
@@ -38,7 +40,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_of, ContactKind, Family, Sensors, EFFECTS};
+use generators::axis::{random_record_among, Axes, ContactKind, Family, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -233,6 +235,7 @@ fn main() {
     let sensors = Sensors::from_args(&args);
     let contact = ContactKind::from_args(&args);
     let family = Family::from_args(&args);
+    let axes = Axes::from_args(&args);
     let num = |i: usize, d: u64| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let per_effect = num(1, 10);
     let free = num(2, 50);
@@ -254,7 +257,7 @@ fn main() {
             .and_then(|s| s.parse().ok())
             .unwrap_or(1000);
         for e in std::iter::once(None).chain(EFFECTS.map(Some)) {
-            let (text, axis) = random_record_of(e, seed, sensors, contact, family);
+            let (text, axis) = random_record_among(e, seed, sensors, contact, family, axes);
             let path = Path::new(dir).join(format!("{}.csv", e.unwrap_or("none")));
             std::fs::write(&path, text).expect("write");
             println!("{}: {axis:?}", path.display());
@@ -310,7 +313,7 @@ fn main() {
     let rows: Vec<Row> = jobs
         .par_iter()
         .map(|&(effect, seed, set)| {
-            let row = run(effect, seed, set, sensors, contact, family);
+            let row = run(effect, seed, set, sensors, contact, family, axes);
             bar.inc(1);
             row
         })
@@ -636,8 +639,9 @@ fn run(
     sensors: Sensors,
     contact: ContactKind,
     family: Family,
+    axes: Axes,
 ) -> Row {
-    let (text, axis) = random_record_of(effect, seed, sensors, contact, family);
+    let (text, axis) = random_record_among(effect, seed, sensors, contact, family, axes);
     let hidden = effect.unwrap_or("none").to_string();
     let mut row = Row {
         set,
