@@ -12,9 +12,10 @@
 //! `--json F` writes the same; `--encoder-um R`, `--noise-x K` and `--log-hz F` measure every
 //! record through other sensors (`Sensors::from_args`; a coarse count makes the diagnosis fit a
 //! second first baseline, `diagnose::prepare`); `--contact maxwell` puts a generalized
-//! Maxwell-slip contact under the same axes (`generators::axis::Maxwell`). Generating a record is not timed. The machine
-//! is noisy: compare two builds by running them one after another on the same records, not
-//! against a number.
+//! Maxwell-slip contact under the same axes (`generators::axis::Maxwell`); `--axes issue` times
+//! the axes issue 9 describes (`generators::axis::Axes::Issue`). Generating a record is not
+//! timed. The machine is noisy: compare two builds by running them one after another on the
+//! same records, not against a number.
 //!
 //! `diagnose_timing --compare A1.json,A2.json B1.json,B2.json` compares two builds' runs
 //! (each a comma-separated list of `--json` files, interleaved runs of one build) record by
@@ -29,7 +30,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_on, ContactKind, Sensors, EFFECTS};
+use generators::axis::{random_record_among, Axes, ContactKind, Family, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use std::path::Path;
@@ -79,6 +80,7 @@ fn main() {
         .and_then(|i| args.get(i + 1).cloned());
     let sensors = Sensors::from_args(&args);
     let contact = ContactKind::from_args(&args);
+    let axes = Axes::from_args(&args);
     let takes_value =
         |flag: &str| flag == "--json" || flag == "--contact" || Sensors::FLAGS.contains(&flag);
     let mut seeds: Vec<u64> = args
@@ -98,7 +100,7 @@ fn main() {
     for &seed in &seeds {
         for effect in std::iter::once(None).chain(EFFECTS.map(Some)) {
             let name = effect.unwrap_or("none");
-            let (text, _) = random_record_on(effect, seed, sensors, contact);
+            let (text, _) = random_record_among(effect, seed, sensors, contact, Family::A, axes);
             let path = format!("{name}-{seed}.csv");
             let start = Instant::now();
             let rec = Record::parse(&text, Path::new(&path)).expect("a generated record parses");
