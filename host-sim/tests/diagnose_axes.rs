@@ -589,6 +589,62 @@ fn the_generator_truth_explains_its_record() {
     assert!(base > 3.0 * floor, "{base} vs {floor}");
 }
 
+/// The axes issue 9 describes its own check on (`--axes issue`, `generators::axis::Axes`):
+/// every draw inside the issue's ranges (a force actuator unless the effect needs chamber
+/// pressures, 100..400 kg, sigma0 5e6..5e7 N/m, sigma1 0.2..1.0 of `sqrt(sigma0 M)`), the rest of
+/// the seed's axis as drawn; and the wide axes of every earlier suite left exactly as drawn.
+#[test]
+fn the_issues_axes_lie_in_its_ranges_and_the_wide_ones_are_untouched() {
+    use generators::axis::{Actuator, Axes, EFFECTS};
+    let mut forces = 0;
+    for seed in 0..200u64 {
+        for effect in std::iter::once(None).chain(EFFECTS.map(Some)) {
+            let wide = Axis::random(effect, seed);
+            let same = Axes::Wide.narrow(wide.clone(), seed);
+            assert_eq!(
+                format!("{same:?}"),
+                format!("{wide:?}"),
+                "wide axis moved: {seed}"
+            );
+            let a = Axes::Issue.narrow(wide.clone(), seed);
+            let damping = a.sigma1 / (a.sigma0 * a.mass_kg).sqrt();
+            assert!(
+                (100.0..=400.0).contains(&a.mass_kg),
+                "{seed}: {} kg",
+                a.mass_kg
+            );
+            assert!(
+                (5e6..=5e7).contains(&a.sigma0),
+                "{seed}: sigma0 {}",
+                a.sigma0
+            );
+            assert!(
+                (0.2..=1.0).contains(&damping),
+                "{seed}: sigma1 {damping} critical"
+            );
+            let needs_pressures = effect == Some("load_dependence");
+            assert_eq!(
+                a.actuator == Actuator::Hydraulic,
+                needs_pressures,
+                "{seed} {effect:?}"
+            );
+            forces += usize::from(a.actuator == Actuator::Force);
+            // the levels, the curve and the effect are the seed's
+            assert_eq!(
+                (a.coulomb_n, a.static_n, a.stribeck_m_per_s, a.sigma2),
+                (
+                    wide.coulomb_n,
+                    wide.static_n,
+                    wide.stribeck_m_per_s,
+                    wide.sigma2
+                )
+            );
+            assert_eq!(format!("{:?}", a.shape), format!("{:?}", wide.shape));
+        }
+    }
+    assert_eq!(forces, 200 * 8);
+}
+
 /// The wrong-model contact behaves as a generalized Maxwell-slip model must (what makes it a
 /// model our LuGre baseline does not contain): from rest it is as stiff as its elements
 /// together; a presliding loop closes where it began (each element remembers its last slip);
