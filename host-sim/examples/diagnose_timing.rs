@@ -81,8 +81,9 @@ fn main() {
     let sensors = Sensors::from_args(&args);
     let contact = ContactKind::from_args(&args);
     let axes = Axes::from_args(&args);
-    let takes_value =
-        |flag: &str| flag == "--json" || flag == "--contact" || Sensors::FLAGS.contains(&flag);
+    let takes_value = |flag: &str| {
+        ["--json", "--contact", "--axes"].contains(&flag) || Sensors::FLAGS.contains(&flag)
+    };
     let mut seeds: Vec<u64> = args
         .iter()
         .enumerate()
