@@ -12,10 +12,13 @@
 //!   moves.
 //!
 //! `cargo run --release -p host-sim --example dwell_clock_probe -- MODE ...` (seeds default to
-//! 1700 and 10: the first calibration dwell records).
+//! 1700 and 10: the first calibration dwell records); `--axes issue` draws the axes issue 9
+//! describes (`generators::axis::Axes::Issue`).
 #[path = "../tests/generators/mod.rs"]
 mod generators;
-use generators::axis::{random_record, Axis, DwellTrace, Shape};
+use generators::axis::{
+    random_record_among, Axes, Axis, ContactKind, DwellTrace, Family, Sensors, Shape,
+};
 use host_sim::diagnose::inverse::Prepared;
 use host_sim::diagnose::{self, fit, Options};
 use host_sim::record::Record;
@@ -54,8 +57,19 @@ fn renewal_of(axis: &Axis) -> f64 {
     }
 }
 
+/// The axes the records are drawn on (`--axes`), set once in `main`.
+static AXES: std::sync::OnceLock<Axes> = std::sync::OnceLock::new();
+
 fn record(seed: u64) -> (Record, Axis) {
-    let (text, axis) = random_record(Some("dwell_stiction"), seed);
+    let axes = AXES.get().copied().unwrap_or_default();
+    let (text, axis) = random_record_among(
+        Some("dwell_stiction"),
+        seed,
+        Sensors::default(),
+        ContactKind::LuGre,
+        Family::A,
+        axes,
+    );
     (Record::parse(&text, Path::new("x.csv")).unwrap(), axis)
 }
 
@@ -201,7 +215,11 @@ fn gaps(args: &[String]) {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let _ = AXES.set(Axes::from_args(&args));
+    if let Some(i) = args.iter().position(|a| a == "--axes") {
+        args.drain(i..(i + 2).min(args.len()));
+    }
     let mode = args.first().map(String::as_str).unwrap_or("truth");
     match mode {
         "gaps" => return gaps(&args[1..]),
