@@ -40,7 +40,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_among, Axes, ContactKind, Family, Sensors, EFFECTS};
+use generators::axis::{random_record_of, Axes, ContactKind, Family, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -257,7 +257,7 @@ fn main() {
             .and_then(|s| s.parse().ok())
             .unwrap_or(1000);
         for e in std::iter::once(None).chain(EFFECTS.map(Some)) {
-            let (text, axis) = random_record_among(e, seed, sensors, contact, family, axes);
+            let (text, axis) = random_record_of(e, seed, sensors, contact, family, axes);
             let path = Path::new(dir).join(format!("{}.csv", e.unwrap_or("none")));
             std::fs::write(&path, text).expect("write");
             println!("{}: {axis:?}", path.display());
@@ -641,7 +641,7 @@ fn run(
     family: Family,
     axes: Axes,
 ) -> Row {
-    let (text, axis) = random_record_among(effect, seed, sensors, contact, family, axes);
+    let (text, axis) = random_record_of(effect, seed, sensors, contact, family, axes);
     let hidden = effect.unwrap_or("none").to_string();
     let mut row = Row {
         set,

@@ -30,7 +30,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_among, Axes, ContactKind, Family, Sensors, EFFECTS};
+use generators::axis::{random_record_of, Axes, ContactKind, Family, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use std::path::Path;
@@ -101,7 +101,7 @@ fn main() {
     for &seed in &seeds {
         for effect in std::iter::once(None).chain(EFFECTS.map(Some)) {
             let name = effect.unwrap_or("none");
-            let (text, _) = random_record_among(effect, seed, sensors, contact, Family::A, axes);
+            let (text, _) = random_record_of(effect, seed, sensors, contact, Family::A, axes);
             let path = format!("{name}-{seed}.csv");
             let start = Instant::now();
             let rec = Record::parse(&text, Path::new(&path)).expect("a generated record parses");

@@ -17,7 +17,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 use generators::axis::{
-    random_record_among, Axes, Axis, ContactKind, DwellTrace, Family, Sensors, Shape,
+    random_record_of, Axes, Axis, ContactKind, DwellTrace, Family, Sensors, Shape,
 };
 use host_sim::diagnose::inverse::Prepared;
 use host_sim::diagnose::{self, fit, Options};
@@ -57,12 +57,8 @@ fn renewal_of(axis: &Axis) -> f64 {
     }
 }
 
-/// The axes the records are drawn on (`--axes`), set once in `main`.
-static AXES: std::sync::OnceLock<Axes> = std::sync::OnceLock::new();
-
-fn record(seed: u64) -> (Record, Axis) {
-    let axes = AXES.get().copied().unwrap_or_default();
-    let (text, axis) = random_record_among(
+fn record(seed: u64, axes: Axes) -> (Record, Axis) {
+    let (text, axis) = random_record_of(
         Some("dwell_stiction"),
         seed,
         Sensors::default(),
@@ -75,8 +71,8 @@ fn record(seed: u64) -> (Record, Axis) {
 
 /// `truth` and `fit`: per record, a header (floor, baseline, our dwell candidate) and the
 /// mode's lines.
-fn per_record(seed: u64, fit_mode: bool) -> String {
-    let (rec, axis) = record(seed);
+fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
+    let (rec, axis) = record(seed, axes);
     let opts = Options {
         skip_final_ranking: true,
         ..Default::default()
@@ -159,12 +155,12 @@ fn per_record(seed: u64, fit_mode: bool) -> String {
 }
 
 /// `gaps`: where one body-speed clock parts from the record's.
-fn gaps(args: &[String]) {
+fn gaps(args: &[String], axes: Axes) {
     let seed: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(1700);
     let stick: f64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(5e-5);
     let window: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1);
     let restart = args.iter().any(|a| a == "--restart");
-    let (rec, axis) = record(seed);
+    let (rec, axis) = record(seed, axes);
     let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();
     let Shape::Dwell {
         increase_n,
@@ -216,13 +212,13 @@ fn gaps(args: &[String]) {
 
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let _ = AXES.set(Axes::from_args(&args));
+    let axes = Axes::from_args(&args);
     if let Some(i) = args.iter().position(|a| a == "--axes") {
         args.drain(i..(i + 2).min(args.len()));
     }
     let mode = args.first().map(String::as_str).unwrap_or("truth");
     match mode {
-        "gaps" => return gaps(&args[1..]),
+        "gaps" => return gaps(&args[1..], axes),
         "truth" | "fit" => {}
         other => panic!("unknown mode {other}: truth, fit or gaps"),
     }
@@ -231,7 +227,7 @@ fn main() {
     let out: Vec<String> = (s0..s0 + n)
         .collect::<Vec<_>>()
         .par_iter()
-        .map(|&seed| per_record(seed, mode == "fit"))
+        .map(|&seed| per_record(seed, mode == "fit", axes))
         .collect();
     for s in out {
         print!("{s}");

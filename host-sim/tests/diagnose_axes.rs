@@ -1074,7 +1074,7 @@ fn family_b_draws_other_laws_for_the_other_effects() {
 
 /// [`family_b_draws_other_laws_on_the_same_axes`] for the effects `EFFECTS[k]` (seed 3000 + k).
 fn family_b_draws_other_laws(which: &[usize]) {
-    use generators::axis::{random_record_of, record, ContactKind, Family, Shape, EFFECTS};
+    use generators::axis::{random_record_of, record, Axes, ContactKind, Family, Shape, EFFECTS};
     use host_sim::diagnose::inverse::Prepared;
     let mut paired = 0;
     for &k in which {
@@ -1086,6 +1086,7 @@ fn family_b_draws_other_laws(which: &[usize]) {
                 Sensors::default(),
                 ContactKind::LuGre,
                 family,
+                Axes::Wide,
             )
         };
         let ((_, axis_a), (text_b, axis_b)) = (of(Family::A), of(Family::B));

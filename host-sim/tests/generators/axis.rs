@@ -225,15 +225,31 @@ fn flag_value<'a>(args: &'a [String], flag: &str) -> Option<Option<&'a str>> {
         .map(|i| args.get(i + 1).map(String::as_str))
 }
 
+/// The choice named after `flag` among `choices` (the first without the flag); another value
+/// is a panic that names the flag and its choices.
+fn flag_choice<T: Copy>(args: &[String], flag: &str, choices: &[(&str, T)]) -> T {
+    match flag_value(args, flag) {
+        None => choices[0].1,
+        Some(word) => choices
+            .iter()
+            .find(|(name, _)| Some(*name) == word)
+            .map(|c| c.1)
+            .unwrap_or_else(|| {
+                let names: Vec<&str> = choices.iter().map(|c| c.0).collect();
+                panic!(
+                    "{flag} takes {}, not {}",
+                    names.join(" or "),
+                    word.unwrap_or("nothing")
+                )
+            }),
+    }
+}
+
 impl Family {
     /// `--shapes a|b` (family A without it); another value is a panic that names it.
     #[allow(dead_code)]
     pub fn from_args(args: &[String]) -> Self {
-        match flag_value(args, "--shapes") {
-            None | Some(Some("a")) => Self::A,
-            Some(Some("b")) => Self::B,
-            Some(other) => panic!("--shapes takes a or b, not {other:?}"),
-        }
+        flag_choice(args, "--shapes", &[("a", Self::A), ("b", Self::B)])
     }
 }
 
@@ -429,11 +445,11 @@ impl ContactKind {
     /// `--contact lugre|maxwell` (LuGre without it); another value is a panic that names it.
     #[allow(dead_code)]
     pub fn from_args(args: &[String]) -> Self {
-        match flag_value(args, "--contact") {
-            None | Some(Some("lugre")) => Self::LuGre,
-            Some(Some("maxwell")) => Self::Maxwell,
-            Some(other) => panic!("--contact takes lugre or maxwell, not {other:?}"),
-        }
+        flag_choice(
+            args,
+            "--contact",
+            &[("lugre", Self::LuGre), ("maxwell", Self::Maxwell)],
+        )
     }
 }
 
@@ -456,11 +472,11 @@ impl Axes {
     /// `--axes wide|issue` (wide without it); another value is a panic that names it.
     #[allow(dead_code)]
     pub fn from_args(args: &[String]) -> Self {
-        match flag_value(args, "--axes") {
-            None | Some(Some("wide")) => Self::Wide,
-            Some(Some("issue")) => Self::Issue,
-            Some(other) => panic!("--axes takes wide or issue, not {other:?}"),
-        }
+        flag_choice(
+            args,
+            "--axes",
+            &[("wide", Self::Wide), ("issue", Self::Issue)],
+        )
     }
 
     /// `axis` redrawn into these axes' ranges, from a generator of its own seeded by `seed`:
@@ -1467,23 +1483,13 @@ pub fn random_record_on(
     sensors: Sensors,
     contact: ContactKind,
 ) -> (String, Axis) {
-    random_record_of(effect, seed, sensors, contact, Family::A)
+    random_record_of(effect, seed, sensors, contact, Family::A, Axes::Wide)
 }
 
 /// [`random_record_on`] with the hidden effect's shape drawn from `family` ([`Family::B`]:
-/// [`Shape::random_b`]; an effect-free record is the same in both).
+/// [`Shape::random_b`]; an effect-free record is the same in both), on the axes `axes` draws
+/// ([`Axes::narrow`]).
 pub fn random_record_of(
-    effect: Option<&'static str>,
-    seed: u64,
-    sensors: Sensors,
-    contact: ContactKind,
-    family: Family,
-) -> (String, Axis) {
-    random_record_among(effect, seed, sensors, contact, family, Axes::Wide)
-}
-
-/// [`random_record_of`] on the axes `axes` draws ([`Axes::narrow`]).
-pub fn random_record_among(
     effect: Option<&'static str>,
     seed: u64,
     sensors: Sensors,
