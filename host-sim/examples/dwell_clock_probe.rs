@@ -22,7 +22,7 @@ use generators::axis::{
 use host_sim::diagnose::inverse::Prepared;
 use host_sim::diagnose::{self, fit, Options};
 use host_sim::record::Record;
-use lugre_servo::friction::effects::DwellStiction;
+use lugre_servo::friction::effects::{DwellAge, DwellStiction};
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -123,7 +123,10 @@ fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
         return s;
     }
     let n_eff = fit::effective_samples(p, 20.0);
-    for stick in [2e-5, 5e-5, 2e-4] {
+    for (stick, age_at_stick) in [2e-5, 5e-5, 2e-4]
+        .into_iter()
+        .flat_map(|v| DwellAge::ALL.map(|a| (v, a)))
+    {
         let mut best = (f64::INFINITY, 0.0, 0.0, 0.0);
         for tau in [0.05, 0.1, 0.2, 0.35, 0.5, 1.0, 2.0, 5.0] {
             for renewal in [1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 1e-2] {
@@ -133,6 +136,7 @@ fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
                     time_constant: tau,
                     stick_velocity: stick,
                     renewal_distance: renewal,
+                    age_at_stick,
                 });
                 let f = fit::refit(&m, p, None, n_eff);
                 if f.rel_err_pct < best.0 {
@@ -146,8 +150,10 @@ fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
                 }
             }
         }
-        s += &format!(
-            "  stick {stick:.0e}: best {:.2} % at tau {} s, renewal {:.0e} m, dF {:.0} N\n",
+        s +=
+            &format!(
+            "  stick {stick:.0e}, age {}: best {:.2} % at tau {} s, renewal {:.0e} m, dF {:.0} N\n",
+            age_at_stick.name(),
             best.0, best.1, best.2, best.3
         );
     }

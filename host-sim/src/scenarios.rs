@@ -60,6 +60,7 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::R
                 time_constant: 1.0,
                 stick_velocity: 2e-4,
                 renewal_distance: crate::params_file::DEFAULT_RENEWAL_DISTANCE_M,
+                age_at_stick: fx::DwellAge::Accumulates,
             })
         }
     }

@@ -6,6 +6,7 @@ use host_sim::diagnose::{self, across, Options};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
 use host_sim::{identify, scenarios, timing};
+use lugre_servo::friction::DwellAge;
 use std::path::Path;
 
 const GOOD: &str = "[lugre]\nbristle_stiffness_n_per_m = 3.9e9\nbristle_damping_n_s_per_m = 200.0\nviscous_coefficient_n_s_per_m = 48900.0\ncoulomb_force_n = 506.0\nstatic_force_n = 632.0\nstribeck_velocity_m_per_s = 0.005\n[axis]\nmoving_mass_kg = 200.0\n";
@@ -129,6 +130,27 @@ fn parameter_file_messages() {
     assert_eq!(
         m.effects.dwell_stiction.map(|d| d.renewal_distance),
         Some(host_sim::params_file::DEFAULT_RENEWAL_DISTANCE_M)
+    );
+    // ... and with the age rule it always had, which a written file names and reads back
+    assert_eq!(
+        m.effects.dwell_stiction.map(|d| d.age_at_stick),
+        Some(DwellAge::Accumulates)
+    );
+    let mut restarting = m;
+    if let Some(d) = restarting.effects.dwell_stiction.as_mut() {
+        d.age_at_stick = DwellAge::Restarts;
+    }
+    let written = dir.path().join("restarts.toml");
+    ParamFile::new(&restarting, 200.0).write(&written).unwrap();
+    assert!(std::fs::read_to_string(&written)
+        .unwrap()
+        .contains("age_at_stick = \"restarts\""));
+    assert_eq!(ParamFile::read(&written).unwrap().1, restarting);
+    // an age rule it does not know is an error at its line and column, never a default
+    let unknown = read(&format!("{GOOD}{dwell}age_at_stick = \"resets\"\n"));
+    assert!(
+        unknown.starts_with("DIR/p.toml:") && unknown.contains("resets"),
+        "{unknown}"
     );
     // the static asymmetry ratio: checked like the others; absent (older files) it is rc
     assert_eq!(

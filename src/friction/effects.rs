@@ -14,7 +14,7 @@
 //! | `temperature_dependence` | `sigma2 -> sigma2 exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs` |
 //! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
 //! | `viscous_power` | `F_visc = sigma2 v_r sign(v) |v / v_r|^delta` (equals `sigma2 v` at `v = v_r`) |
-//! | `dwell_stiction` | `Fs += dF (1 - exp(-t_dwell / tau))`, `t_dwell` = time stuck, forgotten as `exp(-s / D)` over the slid distance `s` |
+//! | `dwell_stiction` | `Fs += dF (1 - exp(-t_dwell / tau))`, `t_dwell` = time stuck (carried on from the last slide or restarted at each stick: [`DwellAge`]), forgotten as `exp(-s / D)` over the slid distance `s` |
 
 use num_traits::Float;
 
@@ -280,6 +280,36 @@ pub struct DwellStiction<T> {
     /// at rest are renewed by sliding, as in rate-and-state friction's state variable. A few
     /// micrometres forget it within the breakaway; millimetres carry it into the motion.
     pub renewal_distance: T,
+    /// What a new stick does to the age: carry on from what the last slide left of it, or
+    /// start again at zero.
+    pub age_at_stick: DwellAge,
+}
+
+/// What a new stick does to `dwell_stiction`'s age `t_dwell` (the rule the contact's junctions
+/// follow; the data choose it, since no law fixes it).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DwellAge {
+    /// The age grows on from what the last slide left of it: junctions a short slide only
+    /// partly renewed keep growing (the model's law before session 67).
+    #[default]
+    Accumulates,
+    /// Each stick starts a new age at zero: the junctions of a stick are new ones. While the
+    /// axis slides, the age the stick reached is forgotten over the renewal distance as with
+    /// [`DwellAge::Accumulates`], so the breakaway peak fades the same way.
+    Restarts,
+}
+
+impl DwellAge {
+    /// Both rules, the long-standing one first.
+    pub const ALL: [DwellAge; 2] = [DwellAge::Accumulates, DwellAge::Restarts];
+
+    /// The rule's name in parameter files and reports.
+    pub const fn name(self) -> &'static str {
+        match self {
+            DwellAge::Accumulates => "accumulates",
+            DwellAge::Restarts => "restarts",
+        }
+    }
 }
 
 /// The set of extra effects a model carries (all `None`: plain LuGre).
@@ -454,6 +484,7 @@ impl<T: Float> Effects<T> {
                 time_constant: c(d.time_constant),
                 stick_velocity: c(d.stick_velocity),
                 renewal_distance: c(d.renewal_distance),
+                age_at_stick: d.age_at_stick,
             }),
         }
     }
@@ -557,6 +588,7 @@ pub(crate) fn every_effect() -> Effects<f64> {
         time_constant: 1.0,
         stick_velocity: 1e-4,
         renewal_distance: 1e-4,
+        age_at_stick: DwellAge::Accumulates,
     });
     all
 }

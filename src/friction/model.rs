@@ -71,6 +71,10 @@ pub struct FrictionState<T> {
     /// Bristle deflection rate dz/dt at the end of the last step [m/s] (what `sigma1`
     /// multiplies; kept so an identification can regress on it).
     pub deflection_rate: T,
+    /// Whether the dwell clock counted the last step as sliding: a stick that follows
+    /// restarts a [`DwellAge::Restarts`](super::DwellAge::Restarts) age (false at the start,
+    /// so a state's given dwell time carries into a first stick).
+    pub sliding: bool,
 }
 
 /// A LuGre model with optional extra effects (configuration only; state is separate).
@@ -403,12 +407,18 @@ impl<T: ModelFloat> FrictionModel<T> {
         dt: T,
     ) -> (Levels<T>, Levels<T>) {
         if let Some(d) = self.effects.dwell_stiction {
-            // Timer runs while stuck and is forgotten over the renewal distance once the axis
-            // slides (a distance that is zero, negative or not a number forgets at once).
+            // Timer runs while stuck (from zero at each stick when the age restarts) and is
+            // forgotten over the renewal distance once the axis slides (a distance that is
+            // zero, negative or not a number forgets at once).
             let speed = mean_velocity.abs();
             if speed < d.stick_velocity {
+                if s.sliding && d.age_at_stick == super::DwellAge::Restarts {
+                    s.dwell_time = T::zero();
+                }
+                s.sliding = false;
                 s.dwell_time = s.dwell_time + dt;
             } else {
+                s.sliding = true;
                 let slid = speed * dt / d.renewal_distance;
                 s.dwell_time = if slid.is_finite() && slid >= T::zero() {
                     s.dwell_time * (-slid).exp()
@@ -608,6 +618,7 @@ mod tests {
             time_constant: 0.3,
             stick_velocity: 1e-4,
             renewal_distance: 1e-3,
+            age_at_stick: crate::friction::DwellAge::Accumulates,
         });
         let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
         for i in 0..4000 {
@@ -851,6 +862,7 @@ mod tests {
                 time_constant: 0.5,
                 stick_velocity: 1e-4,
                 renewal_distance: 1e-4,
+                age_at_stick: crate::friction::DwellAge::Accumulates,
             }),
         };
         // the same effects at other levels (a refined model)
@@ -997,6 +1009,7 @@ mod tests {
             time_constant: 1.0,
             stick_velocity: 1e-4,
             renewal_distance: 1e-3,
+            age_at_stick: crate::friction::DwellAge::Accumulates,
         });
         let mut s = FrictionState::default();
         for _ in 0..1000 {
@@ -1028,6 +1041,52 @@ mod tests {
             assert_eq!(s.dwell_time, 0.0, "{bad}");
             assert!(f.is_finite());
         }
+    }
+
+    #[test]
+    fn a_restarting_age_starts_at_zero_at_each_stick_and_an_accumulating_one_carries_on() {
+        use crate::friction::DwellAge;
+        // 1 s stuck, 0.1 mm slid (renewal distance 1 mm: e^-0.1 of the age left), 0.5 s stuck
+        let age_after = |age_at_stick: DwellAge, start: f64| {
+            let mut m = base();
+            m.effects.dwell_stiction = Some(DwellStiction {
+                max_increase: 200.0,
+                time_constant: 1.0,
+                stick_velocity: 1e-4,
+                renewal_distance: 1e-3,
+                age_at_stick,
+            });
+            let mut s = FrictionState {
+                dwell_time: start,
+                ..FrictionState::default()
+            };
+            let mut ages = [0.0; 3];
+            for _ in 0..1000 {
+                m.step(&mut s, 0.0, &REF, 1e-3);
+            }
+            ages[0] = s.dwell_time;
+            for _ in 0..10 {
+                m.step(&mut s, 0.01, &REF, 1e-3);
+            }
+            ages[1] = s.dwell_time;
+            for _ in 0..500 {
+                m.step(&mut s, 0.0, &REF, 1e-3);
+            }
+            ages[2] = s.dwell_time;
+            ages
+        };
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
+        let acc = age_after(DwellAge::Accumulates, 0.0);
+        let res = age_after(DwellAge::Restarts, 0.0);
+        // the same first stick and the same fading while sliding
+        assert!(close(acc[0], 1.0) && close(res[0], 1.0), "{acc:?} {res:?}");
+        assert!(close(acc[1], (-0.1f64).exp()) && close(res[1], acc[1]));
+        // the second stick: on from e^-0.1 s, or from zero
+        assert!(close(acc[2], (-0.1f64).exp() + 0.5), "{acc:?}");
+        assert!(close(res[2], 0.5), "{res:?}");
+        // a state's given age carries into a first stick under either rule
+        assert!(close(age_after(DwellAge::Restarts, 2.0)[0], 3.0));
+        assert!(close(age_after(DwellAge::Accumulates, 2.0)[0], 3.0));
     }
 
     /// Only effects that leave the levels alone make them constant, and a step at those
@@ -1112,6 +1171,7 @@ mod tests {
             time_constant: 0.3,
             stick_velocity: 1e-4,
             renewal_distance: 1e-3,
+            age_at_stick: crate::friction::DwellAge::Accumulates,
         });
         let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
         let mut longest_rest: f64 = 0.0;

@@ -864,6 +864,7 @@ mod tests {
             time_constant: 0.2,
             stick_velocity: 1e-4,
             renewal_distance: 1e-4,
+            age_at_stick: lugre_servo::friction::DwellAge::Accumulates,
         });
         for m in [plain, dwell] {
             let split = m.simulate(&p);

@@ -1336,6 +1336,7 @@ mod search_edge_tests {
             time_constant,
             stick_velocity: 2e-4,
             renewal_distance,
+            age_at_stick: fx::DwellAge::Accumulates,
         });
         model(e)
     }

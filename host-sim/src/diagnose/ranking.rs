@@ -6,6 +6,7 @@
 //! of an added effect.
 
 use super::*;
+use lugre_servo::friction::DwellAge;
 
 /// How many leading candidates a stage's ranking re-judges after their nonlinear parameters
 /// have moved (usize::MAX: all). Three gave the same answers on the 110 records of never-run
@@ -464,20 +465,23 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
     if cand.skipped.is_some() {
         return cand;
     }
-    let mut shape_profile: Vec<(f64, f64)> = Vec::new();
     let (fit, nonlinear_ci) = match info.nonlinear {
         Some((name, grid, null)) => {
-            // the nonlinear parameter's grid, at each value of the second shape parameter
+            // the nonlinear parameter's grid, at each value of the second shape parameter,
+            // under each of the effect's rules (the dwell's age at a new stick)
             let shapes: Vec<Option<f64>> = info
                 .shape
                 .map_or(vec![None], |(_, g)| g.iter().copied().map(Some).collect());
             let mut best: Option<fit::GridResult<Fit>> = None;
             let objective = |x: f64, f: &Fit| grid_objective(info, x, f.rss, n_eff);
-            let search_at = |shape: Option<f64>| {
+            let search_at = |rule: Option<DwellAge>, shape: Option<f64>| {
                 effect_grid_min(info, grid, |x| {
                     let mut m = fit::add_effect(&current.fit.model, info.kind, p, x);
                     if let Some(v) = shape {
                         m = fit::with_shape(&m, info.kind, v);
+                    }
+                    if let Some(age) = rule {
+                        m = fit::with_age_rule(&m, age);
                     }
                     let f = on.fitting.refit_quick(&m);
                     (grid_objective(info, x, f.rss, n_eff), f)
@@ -498,19 +502,38 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     *best = Some((x, f, profile));
                 }
             };
-            for shape in shapes {
-                keep(shape, search_at(shape), &mut shape_profile, &mut best);
-            }
-            // the second shape parameter between its grid's points: the parabola through the
-            // best one and its neighbours in ln, searched once more there (the renewal
-            // distance on its decade grid left calibration dwell record 1701 at 1.83 % where
-            // 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE, session 35)
-            if let Some(v) = shape_vertex_ln(&shape_profile).map(f64::exp) {
-                keep(Some(v), search_at(Some(v)), &mut shape_profile, &mut best);
+            // each rule's profile over the second shape parameter
+            let mut shape_profiles: Vec<(Option<DwellAge>, Vec<(f64, f64)>)> = Vec::new();
+            for rule in fit::age_rules(info.kind) {
+                let mut shape_profile = Vec::new();
+                for &shape in &shapes {
+                    keep(shape, search_at(rule, shape), &mut shape_profile, &mut best);
+                }
+                // the second shape parameter between its grid's points: the parabola through
+                // the best one and its neighbours in ln, searched once more there (the renewal
+                // distance on its decade grid left calibration dwell record 1701 at 1.83 %
+                // where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE,
+                // session 35)
+                if let Some(v) = shape_vertex_ln(&shape_profile).map(f64::exp) {
+                    keep(
+                        Some(v),
+                        search_at(rule, Some(v)),
+                        &mut shape_profile,
+                        &mut best,
+                    );
+                }
+                shape_profiles.push((rule, shape_profile));
             }
             let Some((x, f, profile)) = best else {
                 unreachable!("at least one shape value is searched")
             };
+            // the shape's interval from the profile of the rule the best fit holds
+            let rule = fit::age_rule(&f.model);
+            let shape_profile = shape_profiles
+                .into_iter()
+                .find(|(r, _)| r.is_none() || *r == rule)
+                .map(|(_, profile)| profile)
+                .unwrap_or_default();
             let f = on.refit(&f.model);
             // the profile interval from the grid's own (quick) residuals
             let (lo, hi, inside) = profile_interval(&profile, n_eff, x);
@@ -689,6 +712,7 @@ fn judge(
         twin_rel_err_pct: null.rel_err_pct,
         record_cut: 1.0 - fit.rel_err_pct / current.fit.rel_err_pct,
         peak_cut: 1.0 - (peak_rss / null.peak_rss).sqrt(),
+        age_at_stick: fit::age_rule(&fit.model).map_or("", DwellAge::name),
     });
     Candidate {
         rel_err_pct: Some(fit.rel_err_pct),
@@ -758,6 +782,9 @@ pub struct DwellEvidence {
     /// `1 - sqrt(RSS_peaks / RSS_peaks,twin)` (a fraction; NaN without peaks). Diagnostic:
     /// where the dwell term acts, whatever the rest of the record leaves.
     pub peak_cut: f64,
+    /// The age rule the data chose for the term ([`DwellAge::name`]: `accumulates` or
+    /// `restarts`, [`fit::age_rules`]).
+    pub age_at_stick: &'static str,
 }
 
 /// The rest-independent twin of a `dwell_stiction` fit (one refit), for [`judge`] to weigh;

@@ -401,17 +401,30 @@ fn verdict(c: &super::Candidate) -> String {
 fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
     let m = &fit.model;
     let file = crate::params_file::ParamFile::new(&m.friction, m.mass_kg);
-    let mut entries: Vec<(String, String, f64)> = Vec::new();
+    // (section, key, value): a number, or a rule by its name (the dwell's age at a stick)
+    let mut entries: Vec<(String, String, Entry)> = Vec::new();
+    enum Entry {
+        Number(f64),
+        Rule(String),
+    }
     let mut push = |section: &str, value: toml::Value| {
         if let toml::Value::Table(t) = value {
             for (k, v) in t {
                 match v {
-                    toml::Value::Float(x) => entries.push((section.to_string(), k, x)),
-                    toml::Value::Integer(i) => entries.push((section.to_string(), k, i as f64)),
+                    toml::Value::Float(x) => {
+                        entries.push((section.to_string(), k, Entry::Number(x)))
+                    }
+                    toml::Value::Integer(i) => {
+                        entries.push((section.to_string(), k, Entry::Number(i as f64)))
+                    }
                     toml::Value::Array(a) => {
                         for (j, x) in a.iter().enumerate() {
                             if let Some(x) = x.as_float() {
-                                entries.push((section.to_string(), format!("{k}[{j}]"), x));
+                                entries.push((
+                                    section.to_string(),
+                                    format!("{k}[{j}]"),
+                                    Entry::Number(x),
+                                ));
                             }
                         }
                     }
@@ -422,7 +435,7 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
         }
     };
     fn push_nested(
-        entries: &mut Vec<(String, String, f64)>,
+        entries: &mut Vec<(String, String, Entry)>,
         section: &str,
         name: &str,
         v: toml::Value,
@@ -430,11 +443,17 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
         if let toml::Value::Table(t) = v {
             for (k, v) in t {
                 if let Some(x) = v.as_float().or(v.as_integer().map(|i| i as f64)) {
-                    entries.push((format!("{section}.{name}"), k, x));
+                    entries.push((format!("{section}.{name}"), k, Entry::Number(x)));
+                } else if let toml::Value::String(rule) = v {
+                    entries.push((format!("{section}.{name}"), k, Entry::Rule(rule)));
                 } else if let toml::Value::Array(a) = v {
                     for (j, x) in a.iter().enumerate() {
                         if let Some(x) = x.as_float() {
-                            entries.push((format!("{section}.{name}"), format!("{k}[{j}]"), x));
+                            entries.push((
+                                format!("{section}.{name}"),
+                                format!("{k}[{j}]"),
+                                Entry::Number(x),
+                            ));
                         }
                     }
                 }
@@ -491,6 +510,19 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
                     crate::timing::sig3(e.value + h)
                 )
             });
+            let value = match value {
+                Entry::Number(x) => num(x),
+                // (the only rule: the dwell's age, which the candidate's search chose)
+                Entry::Rule(rule) => {
+                    return vec![
+                        section,
+                        key,
+                        rule,
+                        String::new(),
+                        "chosen by the data (accumulates or restarts)".into(),
+                    ]
+                }
+            };
             let status = if let Some(p) = prior {
                 format!("prior: {}", p.1)
             } else if let Some(range) = edge {
@@ -504,7 +536,7 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
             } else {
                 "fixed by the effect's definition".into()
             };
-            vec![section, key, num(value), interval, status]
+            vec![section, key, value, interval, status]
         })
         .collect()
 }
@@ -789,6 +821,11 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                             q.name, q.value, q.ci_low, q.ci_high
                         )
                     })
+                    // the dwell term's age rule, which the data chose
+                    .chain(
+                        c.dwell
+                            .map(|d| format!("age_at_stick = {}", d.age_at_stick)),
+                    )
                     .collect::<Vec<_>>()
                     .join("; "),
             ]
