@@ -449,6 +449,8 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                                     }
                                 )
                             })
+                            // the dwell term's age rule, which the data chose
+                            .chain(c.dwell.map(|d| format!("age_at_stick {}", d.age_at_stick)))
                             .collect();
                         println!(
                             "   {:<24} {:>6.2} %  dBIC {:>8.1}  explains {:>7.3} N  {}  {}",

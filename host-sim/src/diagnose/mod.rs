@@ -65,7 +65,9 @@ pub struct EffectInfo {
     pub nonlinear: Option<(&'static str, &'static [f64], Option<f64>)>,
     /// A second shape parameter, its name and grid: the nonlinear one is searched afresh at
     /// each of its values (see [`fit::with_shape`]), and once more between them, at the
-    /// vertex in ln of the best value and its neighbours (`shape_vertex_ln`).
+    /// vertex in ln of the best value and its neighbours (`shape_vertex_ln`). All of that
+    /// is done under each of the effect's rules ([`fit::age_rules`]: the dwell's age at a
+    /// new stick), and the best of them is kept.
     pub shape: Option<(&'static str, &'static [f64])>,
     /// Where the nonlinear parameter is a model order (the cosine terms of
     /// `position_dependence`): how many of its grid's orders are tried first, the rest only

@@ -456,6 +456,9 @@ fn rank_among(
     out
 }
 
+/// A profile over an effect's second shape parameter: (value, residual sum of squares).
+type ShapeProfile = Vec<(f64, f64)>;
+
 fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
     let (p, brk, n_eff) = (on.fitting.p, on.brk, on.fitting.n_eff);
     let mut cand = Candidate {
@@ -503,7 +506,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                 }
             };
             // each rule's profile over the second shape parameter
-            let mut shape_profiles: Vec<(Option<DwellAge>, Vec<(f64, f64)>)> = Vec::new();
+            let mut shape_profiles: Vec<(Option<DwellAge>, ShapeProfile)> = Vec::new();
             for rule in fit::age_rules(info.kind) {
                 let mut shape_profile = Vec::new();
                 for &shape in &shapes {
