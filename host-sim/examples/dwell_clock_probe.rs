@@ -16,9 +16,7 @@
 //! describes (`generators::axis::Axes::Issue`).
 #[path = "../tests/generators/mod.rs"]
 mod generators;
-use generators::axis::{
-    random_record_of, Axes, Axis, ContactKind, DwellTrace, Family, Sensors, Shape,
-};
+use generators::axis::{dwell_record, Axes, Axis, DwellTrace, Shape};
 use host_sim::diagnose::inverse::Prepared;
 use host_sim::diagnose::{self, fit, Options};
 use host_sim::record::Record;
@@ -58,14 +56,7 @@ fn renewal_of(axis: &Axis) -> f64 {
 }
 
 fn record(seed: u64, axes: Axes) -> (Record, Axis) {
-    let (text, axis) = random_record_of(
-        Some("dwell_stiction"),
-        seed,
-        Sensors::default(),
-        ContactKind::LuGre,
-        Family::A,
-        axes,
-    );
+    let (text, axis) = dwell_record(seed, axes);
     (Record::parse(&text, Path::new("x.csv")).unwrap(), axis)
 }
 

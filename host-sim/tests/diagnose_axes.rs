@@ -613,15 +613,7 @@ fn an_accumulating_dwell_age_is_kept_where_it_fits_better() {
 /// Diagnoses the issue's axes' dwell record `seed`: the dwell term is named first, with the
 /// age rule `rule`, and errs at most `floor_factor` times the record's floor.
 fn dwell_age_is_chosen(seed: u64, rule: &str, floor_factor: f64) {
-    use generators::axis::{random_record_of, Axes, ContactKind, Family};
-    let (text, axis) = random_record_of(
-        Some("dwell_stiction"),
-        seed,
-        Sensors::default(),
-        ContactKind::LuGre,
-        Family::A,
-        Axes::Issue,
-    );
+    let (text, axis) = generators::axis::dwell_record(seed, generators::axis::Axes::Issue);
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
     let opts = Options {
         skip_final_ranking: true,

@@ -1001,8 +1001,9 @@ mod tests {
         assert!((m.viscous_force(0.01, &l) - 489.0).abs() < 1e-9);
     }
 
-    #[test]
-    fn dwell_raises_breakaway_with_time_at_rest() {
+    /// Table 2 with a dwell term: 200 N after a long rest, tau 1 s, stuck below 0.1 mm/s,
+    /// forgotten over 1 mm, the age accumulating.
+    fn dwell_at_rest_model() -> FrictionModel<f64> {
         let mut m = base();
         m.effects.dwell_stiction = Some(DwellStiction {
             max_increase: 200.0,
@@ -1011,6 +1012,12 @@ mod tests {
             renewal_distance: 1e-3,
             age_at_stick: crate::friction::DwellAge::Accumulates,
         });
+        m
+    }
+
+    #[test]
+    fn dwell_raises_breakaway_with_time_at_rest() {
+        let m = dwell_at_rest_model();
         let mut s = FrictionState::default();
         for _ in 0..1000 {
             m.step(&mut s, 0.0, &REF, 1e-3);
@@ -1048,14 +1055,10 @@ mod tests {
         use crate::friction::DwellAge;
         // 1 s stuck, 0.1 mm slid (renewal distance 1 mm: e^-0.1 of the age left), 0.5 s stuck
         let age_after = |age_at_stick: DwellAge, start: f64| {
-            let mut m = base();
-            m.effects.dwell_stiction = Some(DwellStiction {
-                max_increase: 200.0,
-                time_constant: 1.0,
-                stick_velocity: 1e-4,
-                renewal_distance: 1e-3,
-                age_at_stick,
-            });
+            let mut m = dwell_at_rest_model();
+            if let Some(d) = m.effects.dwell_stiction.as_mut() {
+                d.age_at_stick = age_at_stick;
+            }
             let mut s = FrictionState {
                 dwell_time: start,
                 ..FrictionState::default()

@@ -1486,6 +1486,19 @@ pub fn random_record_on(
     random_record_of(effect, seed, sensors, contact, Family::A, Axes::Wide)
 }
 
+/// A family-A dwell-stiction record through the default sensors on a LuGre contact, on the axes
+/// `axes` draws (the dwell studies' and tests' record).
+pub fn dwell_record(seed: u64, axes: Axes) -> (String, Axis) {
+    random_record_of(
+        Some("dwell_stiction"),
+        seed,
+        Sensors::default(),
+        ContactKind::LuGre,
+        Family::A,
+        axes,
+    )
+}
+
 /// [`random_record_on`] with the hidden effect's shape drawn from `family` ([`Family::B`]:
 /// [`Shape::random_b`]; an effect-free record is the same in both), on the axes `axes` draws
 /// ([`Axes::narrow`]).
