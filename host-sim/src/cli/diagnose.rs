@@ -450,7 +450,10 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                                 )
                             })
                             // the dwell term's age rule, which the data chose
-                            .chain(c.dwell.map(|d| format!("age_at_stick {}", d.age_at_stick)))
+                            .chain(
+                                diagnose::fit::candidate_age_rule(c)
+                                    .map(|a| format!("age_at_stick {}", a.name())),
+                            )
                             .collect();
                         println!(
                             "   {:<24} {:>6.2} %  dBIC {:>8.1}  explains {:>7.3} N  {}  {}",

@@ -1410,7 +1410,8 @@ pub fn with_shape(
 /// The rules of `effect` the data choose between, each searched over the effect's whole grid
 /// and shape: the dwell's age at a new stick (the age the contact keeps is not fixed by any
 /// law: the axes' dwell record 33711 errs 0.73 % with an accumulating age and 0.22 %,
-/// its record's floor, with a restarting one, where 33712 errs 2.4 % and 5.6 %, session 66).
+/// its record's floor, with a restarting one; 33712 errs 3.65 % with an accumulating age and
+/// loses its dwell with a restarting one, 5.55 %; session 66).
 /// One `None` for an effect without rules.
 pub fn age_rules(
     effect: lugre_servo::friction::EffectKind,
@@ -1429,6 +1430,15 @@ pub fn with_age_rule(m: &AxisModel, age: lugre_servo::friction::DwellAge) -> Axi
         d.age_at_stick = age;
     }
     out
+}
+
+/// The age rule a candidate's fitted dwell term holds (`None` for another effect's candidate,
+/// or without a fit), for the candidate lists.
+pub fn candidate_age_rule(c: &super::Candidate) -> Option<lugre_servo::friction::DwellAge> {
+    if c.kind != lugre_servo::friction::EffectKind::DwellStiction {
+        return None;
+    }
+    c.fit.as_ref().and_then(|f| age_rule(&f.model))
 }
 
 /// The age rule of a model's dwell term (`None` without the term).

@@ -823,8 +823,8 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                     })
                     // the dwell term's age rule, which the data chose
                     .chain(
-                        c.dwell
-                            .map(|d| format!("age_at_stick = {}", d.age_at_stick)),
+                        super::fit::candidate_age_rule(c)
+                            .map(|a| format!("age_at_stick = {}", a.name())),
                     )
                     .collect::<Vec<_>>()
                     .join("; "),
