@@ -156,15 +156,7 @@ mod tables {
         pub renewal_distance_m: f64,
         /// absent in files written before session 67 (their age accumulated)
         #[serde(default)]
-        pub age_at_stick: DwellAgeT,
-    }
-    /// [`DwellAge`](crate::friction::DwellAge) by its name (`"accumulates"`, `"restarts"`).
-    #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
-    #[serde(rename_all = "snake_case")]
-    pub enum DwellAgeT {
-        #[default]
-        Accumulates,
-        Restarts,
+        pub age_at_stick: crate::friction::DwellAge,
     }
     fn default_renewal() -> f64 {
         super::DEFAULT_RENEWAL_DISTANCE_M
@@ -271,10 +263,7 @@ impl ParamFile {
                     time_constant_s: d.time_constant,
                     stick_velocity_m_per_s: d.stick_velocity,
                     renewal_distance_m: d.renewal_distance,
-                    age_at_stick: match d.age_at_stick {
-                        fx::DwellAge::Accumulates => DwellAgeT::Accumulates,
-                        fx::DwellAge::Restarts => DwellAgeT::Restarts,
-                    },
+                    age_at_stick: d.age_at_stick,
                 }),
             },
             fit: FitSection::default(),
@@ -467,10 +456,7 @@ impl ParamFile {
                 time_constant: d.time_constant_s,
                 stick_velocity: d.stick_velocity_m_per_s,
                 renewal_distance: d.renewal_distance_m,
-                age_at_stick: match d.age_at_stick {
-                    DwellAgeT::Accumulates => fx::DwellAge::Accumulates,
-                    DwellAgeT::Restarts => fx::DwellAge::Restarts,
-                },
+                age_at_stick: d.age_at_stick,
             });
         }
         Ok(FrictionModel { params, effects })

@@ -141,11 +141,11 @@ fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
                 }
             }
         }
-        s +=
-            &format!(
-            "  stick {stick:.0e}, age {}: best {:.2} % at tau {} s, renewal {:.0e} m, dF {:.0} N\n",
-            age_at_stick.name(),
-            best.0, best.1, best.2, best.3
+        let (err, tau, renewal, increase) = best;
+        s += &format!(
+            "  stick {stick:.0e}, age {}: best {err:.2} % at tau {tau} s, renewal {renewal:.0e} m, \
+             dF {increase:.0} N\n",
+            age_at_stick.name()
         );
     }
     s

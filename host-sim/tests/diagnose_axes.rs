@@ -14,6 +14,7 @@ use host_sim::diagnose::inverse::{Prepared, Protocol};
 use host_sim::diagnose::{self, Diagnosis, Options};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
+use lugre_servo::friction::DwellAge;
 use std::path::Path;
 
 fn diagnose(effect: Option<&'static str>, seed: u64, add: &[&str]) -> (Diagnosis, Axis) {
@@ -599,7 +600,7 @@ fn the_generator_truth_explains_its_record() {
 /// only, or if the rule does not reach the model.
 #[test]
 fn a_restarting_dwell_age_is_chosen_where_the_record_shows_it() {
-    dwell_age_is_chosen(33711, "restarts", 1.2);
+    dwell_age_is_chosen(33711, DwellAge::Restarts, 1.2);
 }
 
 /// The other half of [`a_restarting_dwell_age_is_chosen_where_the_record_shows_it`]: 33712
@@ -607,12 +608,12 @@ fn a_restarting_dwell_age_is_chosen_where_the_record_shows_it() {
 #[test]
 #[ignore]
 fn an_accumulating_dwell_age_is_kept_where_it_fits_better() {
-    dwell_age_is_chosen(33712, "accumulates", 7.5);
+    dwell_age_is_chosen(33712, DwellAge::Accumulates, 7.5);
 }
 
 /// Diagnoses the issue's axes' dwell record `seed`: the dwell term is named first, with the
 /// age rule `rule`, and errs at most `floor_factor` times the record's floor.
-fn dwell_age_is_chosen(seed: u64, rule: &str, floor_factor: f64) {
+fn dwell_age_is_chosen(seed: u64, rule: DwellAge, floor_factor: f64) {
     let (text, axis) = generators::axis::dwell_record(seed, generators::axis::Axes::Issue);
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
     let opts = Options {
@@ -628,14 +629,14 @@ fn dwell_age_is_chosen(seed: u64, rule: &str, floor_factor: f64) {
         report(&d)
     );
     let evidence = first.dwell.expect("the dwell candidate weighs its growth");
-    assert_eq!(evidence.age_at_stick, rule, "{seed}");
+    assert_eq!(evidence.age_at_stick, Some(rule), "{seed}");
     let model = first.fit.as_ref().unwrap().model;
     assert_eq!(
         model
             .friction
             .effects
             .dwell_stiction
-            .map(|t| t.age_at_stick.name()),
+            .map(|t| t.age_at_stick),
         Some(rule)
     );
     let p = Prepared::new(&rec, "axis.csv", Protocol::default()).unwrap();

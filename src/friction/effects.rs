@@ -288,6 +288,11 @@ pub struct DwellStiction<T> {
 /// What a new stick does to `dwell_stiction`'s age `t_dwell` (the rule the contact's junctions
 /// follow; the data choose it, since no law fixes it).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "params-file",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "snake_case")
+)]
 pub enum DwellAge {
     /// The age grows on from what the last slide left of it: junctions a short slide only
     /// partly renewed keep growing (the model's law before session 67).

@@ -1415,11 +1415,12 @@ pub fn with_shape(
 /// One `None` for an effect without rules.
 pub fn age_rules(
     effect: lugre_servo::friction::EffectKind,
-) -> Vec<Option<lugre_servo::friction::DwellAge>> {
+) -> &'static [Option<lugre_servo::friction::DwellAge>] {
+    use lugre_servo::friction::DwellAge;
     if effect == lugre_servo::friction::EffectKind::DwellStiction {
-        lugre_servo::friction::DwellAge::ALL.map(Some).to_vec()
+        &[Some(DwellAge::Accumulates), Some(DwellAge::Restarts)]
     } else {
-        vec![None]
+        &[None]
     }
 }
 

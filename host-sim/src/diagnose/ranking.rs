@@ -507,7 +507,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             };
             // each rule's profile over the second shape parameter
             let mut shape_profiles: Vec<(Option<DwellAge>, ShapeProfile)> = Vec::new();
-            for rule in fit::age_rules(info.kind) {
+            for &rule in fit::age_rules(info.kind) {
                 let mut shape_profile = Vec::new();
                 for &shape in &shapes {
                     keep(shape, search_at(rule, shape), &mut shape_profile, &mut best);
@@ -715,7 +715,7 @@ fn judge(
         twin_rel_err_pct: null.rel_err_pct,
         record_cut: 1.0 - fit.rel_err_pct / current.fit.rel_err_pct,
         peak_cut: 1.0 - (peak_rss / null.peak_rss).sqrt(),
-        age_at_stick: fit::age_rule(&fit.model).map_or("", DwellAge::name),
+        age_at_stick: fit::age_rule(&fit.model),
     });
     Candidate {
         rel_err_pct: Some(fit.rel_err_pct),
@@ -785,9 +785,9 @@ pub struct DwellEvidence {
     /// `1 - sqrt(RSS_peaks / RSS_peaks,twin)` (a fraction; NaN without peaks). Diagnostic:
     /// where the dwell term acts, whatever the rest of the record leaves.
     pub peak_cut: f64,
-    /// The age rule the data chose for the term ([`DwellAge::name`]: `accumulates` or
-    /// `restarts`, [`fit::age_rules`]).
-    pub age_at_stick: &'static str,
+    /// The age rule the data chose for the term ([`fit::age_rules`]; serialised by its name,
+    /// `accumulates` or `restarts`).
+    pub age_at_stick: Option<DwellAge>,
 }
 
 /// The rest-independent twin of a `dwell_stiction` fit (one refit), for [`judge`] to weigh;
