@@ -432,29 +432,7 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                 match (&c.skipped, c.rel_err_pct, c.delta_bic) {
                     (Some(why), _, _) => println!("   {:<24} skipped: {why}", c.kind),
                     (None, Some(e), Some(b)) => {
-                        let params: Vec<String> = c
-                            .parameters
-                            .iter()
-                            .map(|p| {
-                                format!(
-                                    "{} {:.4e} [{:.3e}, {:.3e}]{}",
-                                    p.name,
-                                    p.value,
-                                    p.ci_low,
-                                    p.ci_high,
-                                    if p.at_search_edge {
-                                        " (at the edge of its search range)"
-                                    } else {
-                                        ""
-                                    }
-                                )
-                            })
-                            // the dwell term's age rule, which the data chose
-                            .chain(
-                                diagnose::fit::candidate_age_rule(c)
-                                    .map(|a| format!("age_at_stick {}", a.name())),
-                            )
-                            .collect();
+                        let params = c.parameter_texts();
                         println!(
                             "   {:<24} {:>6.2} %  dBIC {:>8.1}  explains {:>7.3} N  {}  {}",
                             c.kind,

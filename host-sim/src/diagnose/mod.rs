@@ -504,6 +504,27 @@ impl core::fmt::Display for NestedCheck {
 }
 
 impl Candidate {
+    /// Its parameters as the candidate lists show them (the CLI's and the report's), one text
+    /// each: `name = value [low, high]`, the 95 % interval, with a note where the value ended
+    /// at the edge of its search range (never silent), and a dwell term's age rule.
+    pub fn parameter_texts(&self) -> Vec<String> {
+        (self.parameters.iter())
+            .map(|q| {
+                let edge = if q.at_search_edge {
+                    " (at the edge of its search range)"
+                } else {
+                    ""
+                };
+                format!(
+                    "{} = {:.4e} [{:.3e}, {:.3e}]{edge}",
+                    q.name, q.value, q.ci_low, q.ci_high
+                )
+            })
+            // the dwell term's age rule, which the data chose
+            .chain(fit::candidate_age_rule(self).map(|a| format!("age_at_stick = {}", a.name())))
+            .collect()
+    }
+
     /// Effect `info`'s candidate before anything is scored: no fit, no evidence, not
     /// significant, and none of the marks a stage's ranking sets later (its stage fit, a restart,
     /// a table start, a settled close call, the nested check). Scoring fills in what it finds

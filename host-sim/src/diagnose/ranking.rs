@@ -505,25 +505,41 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     *best = Some((x, f, profile));
                 }
             };
+            // Every rule's grid at every shape value, searched at once: the searches are
+            // independent, and a serial chain of them (the dwell term: 2 rules x 6 renewal
+            // distances x a grid, each ending in a vertex refit) was the candidates' longest
+            // task. They are kept below in the order a serial search would keep them, so the
+            // best fit and every profile are the same bit for bit.
+            let rules = fit::age_rules(info.kind);
+            let on_grid: Vec<Vec<fit::GridResult<Fit>>> = rules
+                .par_iter()
+                .map(|&rule| shapes.par_iter().map(|&s| search_at(rule, s)).collect())
+                .collect();
+            // the second shape parameter between its grid's points: the parabola through
+            // the best one and its neighbours in ln, searched once more there (the renewal
+            // distance on its decade grid left calibration dwell record 1701 at 1.83 %
+            // where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE,
+            // session 35)
+            let between: Vec<Option<(f64, fit::GridResult<Fit>)>> = rules
+                .par_iter()
+                .zip(&on_grid)
+                .map(|(&rule, results)| {
+                    let profile: ShapeProfile = (shapes.iter().zip(results))
+                        .filter_map(|(s, (_, f, _))| s.map(|v| (v, f.rss)))
+                        .collect();
+                    let v = shape_vertex_ln(&profile).map(f64::exp)?;
+                    Some((v, search_at(rule, Some(v))))
+                })
+                .collect();
             // each rule's profile over the second shape parameter
             let mut shape_profiles: Vec<(Option<DwellAge>, ShapeProfile)> = Vec::new();
-            for &rule in fit::age_rules(info.kind) {
+            for ((&rule, results), vertex) in rules.iter().zip(on_grid).zip(between) {
                 let mut shape_profile = Vec::new();
-                for &shape in &shapes {
-                    keep(shape, search_at(rule, shape), &mut shape_profile, &mut best);
+                for (&shape, result) in shapes.iter().zip(results) {
+                    keep(shape, result, &mut shape_profile, &mut best);
                 }
-                // the second shape parameter between its grid's points: the parabola through
-                // the best one and its neighbours in ln, searched once more there (the renewal
-                // distance on its decade grid left calibration dwell record 1701 at 1.83 %
-                // where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE,
-                // session 35)
-                if let Some(v) = shape_vertex_ln(&shape_profile).map(f64::exp) {
-                    keep(
-                        Some(v),
-                        search_at(rule, Some(v)),
-                        &mut shape_profile,
-                        &mut best,
-                    );
+                if let Some((v, result)) = vertex {
+                    keep(Some(v), result, &mut shape_profile, &mut best);
                 }
                 shape_profiles.push((rule, shape_profile));
             }

@@ -6,7 +6,7 @@
 //! 4. the error after each added effect, against the noise floor.
 
 use super::contact::{self, ContactCheck};
-use super::{Diagnosis, Stage, BEYOND_THE_EIGHT};
+use super::{Candidate, Diagnosis, Stage, BEYOND_THE_EIGHT};
 use crate::chart::{self, Bars, Frame, Line, Panel, FINAL_MODEL, FIRST_MODEL};
 use crate::error::Result;
 
@@ -800,37 +800,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     out += &regime_bias(first, last)?;
     out += &breakaway_section(d, pred_first, pred_last)?;
     out += "<h2>Which effect is missing (next candidates, best first)</h2>";
-    let rows: Vec<Vec<String>> = last
-        .candidates
-        .iter()
-        .map(|c| {
-            vec![
-                c.kind.name().to_string(),
-                c.meaning.clone(),
-                c.rel_err_pct
-                    .map_or("-".into(), |e| format!("{e:.2}{NBSP}%")),
-                c.delta_bic.map_or("-".into(), |b| format!("{b:.1}")),
-                c.rel_err_pct
-                    .map_or("-".into(), |_| format!("{:.3}{NBSP}N", c.explained_rms_n)),
-                verdict(c),
-                c.parameters
-                    .iter()
-                    .map(|q| {
-                        format!(
-                            "{} = {:.4e} [{:.3e}, {:.3e}]",
-                            q.name, q.value, q.ci_low, q.ci_high
-                        )
-                    })
-                    // the dwell term's age rule, which the data chose
-                    .chain(
-                        super::fit::candidate_age_rule(c)
-                            .map(|a| format!("age_at_stick = {}", a.name())),
-                    )
-                    .collect::<Vec<_>>()
-                    .join("; "),
-            ]
-        })
-        .collect();
+    let rows = candidate_rows(&last.candidates);
     out += &table(
         &rows,
         &[
@@ -890,6 +860,28 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
 }
 
 /// `text` with its first letter in capitals.
+/// The candidate table's rows: effect, meaning, error with it, dBIC, the force it explains,
+/// the verdict, and its parameters with their intervals ([`Candidate::parameter_texts`]: an
+/// edge of the search range is said, as the CLI says it).
+fn candidate_rows(candidates: &[Candidate]) -> Vec<Vec<String>> {
+    candidates
+        .iter()
+        .map(|c| {
+            vec![
+                c.kind.name().to_string(),
+                c.meaning.clone(),
+                c.rel_err_pct
+                    .map_or("-".into(), |e| format!("{e:.2}{NBSP}%")),
+                c.delta_bic.map_or("-".into(), |b| format!("{b:.1}")),
+                c.rel_err_pct
+                    .map_or("-".into(), |_| format!("{:.3}{NBSP}N", c.explained_rms_n)),
+                verdict(c),
+                c.parameter_texts().join("; "),
+            ]
+        })
+        .collect()
+}
+
 fn capitalised(text: &str) -> String {
     let mut c = text.chars();
     c.next()
@@ -959,5 +951,46 @@ mod tests {
             status(&inside, "effects.viscous_power", "exponent"),
             "searched (nonlinear): no interval"
         );
+    }
+
+    /// The report's candidate table says where a candidate's parameter ended at the edge of
+    /// its search range, as the CLI's list does (both take `Candidate::parameter_texts`), and
+    /// only there; a dwell candidate's age rule is listed with its parameters.
+    #[test]
+    fn the_candidate_table_says_which_parameter_ended_at_its_search_edge() {
+        use crate::diagnose::{effect_info, ParamReport};
+        use lugre_servo::friction::{DwellAge, EffectKind};
+        let param = |name: &str, value: f64, at_search_edge: bool| ParamReport {
+            name: name.into(),
+            value,
+            ci_low: value,
+            ci_high: value,
+            at_search_edge,
+        };
+        let mut load = Candidate::unscored(effect_info(EffectKind::LoadDependence));
+        load.parameters = vec![param("terms", 4.0, true), param("static_share", 1.0, false)];
+        let mut dwell = Candidate::unscored(effect_info(EffectKind::DwellStiction));
+        dwell.parameters = vec![param("time_constant_s", 0.1, true)];
+        let mut fit = fit_with_viscous_exponent(1.0);
+        fit.model.friction.effects.dwell_stiction = Some(fx::DwellStiction {
+            max_increase: 50.0,
+            time_constant: 0.1,
+            stick_velocity: 2e-4,
+            renewal_distance: 1e-3,
+            age_at_stick: DwellAge::Restarts,
+        });
+        dwell.fit = Some(fit);
+        let rows = candidate_rows(&[load, dwell]);
+        let texts: Vec<&str> = rows[0][6].split("; ").collect();
+        assert_eq!(texts.len(), 2, "{texts:?}");
+        assert!(texts[0].starts_with("terms = 4.0000e0"), "{texts:?}");
+        assert!(
+            texts[0].ends_with("(at the edge of its search range)"),
+            "{texts:?}"
+        );
+        assert!(!texts[1].contains("edge"), "{texts:?}");
+        let dwell_texts: Vec<&str> = rows[1][6].split("; ").collect();
+        assert!(dwell_texts[0].ends_with("(at the edge of its search range)"));
+        assert_eq!(dwell_texts[1], "age_at_stick = restarts");
     }
 }
