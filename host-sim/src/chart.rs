@@ -56,6 +56,9 @@ pub struct Panel<'a> {
     pub points: Vec<(f64, f64, RGBColor)>,
     /// Radius of the points \[px\] (1 for thousands of samples, more for a few events).
     pub radius: u32,
+    /// Points drawn as rings over the filled ones, a little larger (x, y, colour): what a model
+    /// is compared with, so a model point on it stays visible inside the ring.
+    pub rings: Vec<(f64, f64, RGBColor)>,
 }
 
 /// One series of bars.
@@ -204,6 +207,10 @@ pub fn scatter_panels(height: u32, panels: &[Panel]) -> Result<String> {
                     .iter()
                     .map(|&(x, y, color)| Circle::new((x, y), panel.radius, color.filled())),
             )
+            .map_err(err)?;
+            c.draw_series(panel.rings.iter().map(|&(x, y, color)| {
+                Circle::new((x, y), panel.radius + 2, color.stroke_width(2))
+            }))
             .map_err(err)?;
         }
         root.present().map_err(err)?;
@@ -587,5 +594,30 @@ mod tests {
         let (lo, hi) = range([0.0, f64::INFINITY, 10.0].into_iter());
         assert!((lo + 0.5).abs() < 1e-12 && (hi - 10.5).abs() < 1e-12);
         assert_eq!(thin(10, 4).collect::<Vec<_>>(), vec![0, 3, 6, 9]);
+    }
+
+    /// A panel's rings are drawn hollow and after its dots, so a dot at the same place (a model
+    /// meeting a measured breakaway peak) stays visible inside its ring.
+    #[test]
+    fn rings_are_hollow_and_drawn_over_the_dots() {
+        let panel = Panel {
+            frame: Frame {
+                title: "t",
+                x_desc: "x",
+                y_desc: "y",
+                x: (0.0, 1.0),
+                y: (0.0, 1.0),
+            },
+            points: vec![(0.5, 0.5, FINAL_MODEL)],
+            radius: 3,
+            rings: vec![(0.5, 0.5, MEASURED)],
+        };
+        let svg = scatter_panels(200, &[panel]).unwrap();
+        let circles: Vec<&str> = svg.lines().filter(|l| l.contains("<circle")).collect();
+        assert_eq!(circles.len(), 2, "{circles:?}");
+        let (dot, ring) = (circles[0], circles[1]);
+        assert!(dot.contains("r=\"3\"") && dot.contains("fill=\"#2166AC\""), "{dot}");
+        assert!(ring.contains("r=\"5\"") && ring.contains("fill=\"none\""), "{ring}");
+        assert!(ring.contains("stroke=\"#282828\""), "{ring}");
     }
 }

@@ -168,6 +168,7 @@ fn residual_vs_velocity(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<St
             })
             .collect(),
         radius: 1,
+        rings: Vec::new(),
     };
     chart::scatter_panels(
         H,
@@ -230,15 +231,15 @@ fn breakaway_section(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<Strin
             .iter()
             .zip(m_first.iter().zip(&m_last))
             .filter(|(e, _)| e.direction == dir)
-            .flat_map(|(e, (f, l))| {
-                [
-                    (x(e), f * dir, FIRST_MODEL),
-                    (x(e), l * dir, FINAL_MODEL),
-                    (x(e), e.peak_n * dir, chart::MEASURED),
-                ]
-            })
+            .flat_map(|(e, (f, l))| [(x(e), f * dir, FIRST_MODEL), (x(e), l * dir, FINAL_MODEL)])
             .collect(),
         radius: 3,
+        // the measured peaks as rings over the models' dots: a model that meets a peak shows
+        // inside its ring (drawn as dots on top, the final model hid under every peak it met)
+        rings: (b.departures.iter())
+            .filter(|e| e.direction == dir)
+            .map(|e| (x(e), e.peak_n * dir, chart::MEASURED))
+            .collect(),
     };
     let holding = Panel {
         frame: Frame {
@@ -261,6 +262,7 @@ fn breakaway_section(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<Strin
             })
             .collect(),
         radius: 3,
+        rings: Vec::new(),
     };
     out += &chart::scatter_panels(
         H,
@@ -270,7 +272,8 @@ fn breakaway_section(d: &Diagnosis, first: &[f64], last: &[f64]) -> Result<Strin
             holding,
         ],
     )?;
-    out += "<p>Peaks: black measured, red first model, blue final model. Holding force: \
+    out += "<p>Peaks: black rings measured, red first model, blue final model (a model dot \
+            inside a ring meets that peak). Holding force: \
             coloured by the direction the axis then moved off in (green +x, purple -x).</p>";
     Ok(out)
 }
