@@ -616,8 +616,14 @@ mod tests {
         let circles: Vec<&str> = svg.lines().filter(|l| l.contains("<circle")).collect();
         assert_eq!(circles.len(), 2, "{circles:?}");
         let (dot, ring) = (circles[0], circles[1]);
-        assert!(dot.contains("r=\"3\"") && dot.contains("fill=\"#2166AC\""), "{dot}");
-        assert!(ring.contains("r=\"5\"") && ring.contains("fill=\"none\""), "{ring}");
+        assert!(
+            dot.contains("r=\"3\"") && dot.contains("fill=\"#2166AC\""),
+            "{dot}"
+        );
+        assert!(
+            ring.contains("r=\"5\"") && ring.contains("fill=\"none\""),
+            "{ring}"
+        );
         assert!(ring.contains("stroke=\"#282828\""), "{ring}");
     }
 }
