@@ -862,7 +862,6 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     Ok(out)
 }
 
-/// `text` with its first letter in capitals.
 /// The candidate table's rows: effect, meaning, error with it, dBIC, the force it explains,
 /// the verdict, and its parameters with their intervals ([`Candidate::parameter_texts`]: an
 /// edge of the search range is said, as the CLI says it).
@@ -885,6 +884,7 @@ fn candidate_rows(candidates: &[Candidate]) -> Vec<Vec<String>> {
         .collect()
 }
 
+/// `text` with its first letter in capitals.
 fn capitalised(text: &str) -> String {
     let mut c = text.chars();
     c.next()
