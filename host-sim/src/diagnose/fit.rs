@@ -1417,8 +1417,18 @@ pub fn age_rules(
     effect: lugre_servo::friction::EffectKind,
 ) -> &'static [Option<lugre_servo::friction::DwellAge>] {
     use lugre_servo::friction::DwellAge;
+    // the core's list of rules, each as a rule to search (one list, not a copy of it)
+    const DWELL: [Option<DwellAge>; DwellAge::ALL.len()] = {
+        let mut out = [None; DwellAge::ALL.len()];
+        let mut i = 0;
+        while i < out.len() {
+            out[i] = Some(DwellAge::ALL[i]);
+            i += 1;
+        }
+        out
+    };
     if effect == lugre_servo::friction::EffectKind::DwellStiction {
-        &[Some(DwellAge::Accumulates), Some(DwellAge::Restarts)]
+        &DWELL
     } else {
         &[None]
     }
@@ -1431,15 +1441,6 @@ pub fn with_age_rule(m: &AxisModel, age: lugre_servo::friction::DwellAge) -> Axi
         d.age_at_stick = age;
     }
     out
-}
-
-/// The age rule a candidate's fitted dwell term holds (`None` for another effect's candidate,
-/// or without a fit), for the candidate lists.
-pub fn candidate_age_rule(c: &super::Candidate) -> Option<lugre_servo::friction::DwellAge> {
-    if c.kind != lugre_servo::friction::EffectKind::DwellStiction {
-        return None;
-    }
-    c.fit.as_ref().and_then(|f| age_rule(&f.model))
 }
 
 /// The age rule of a model's dwell term (`None` without the term).

@@ -520,8 +520,14 @@ impl Candidate {
                     q.name, q.value, q.ci_low, q.ci_high
                 )
             })
-            // the dwell term's age rule, which the data chose
-            .chain(fit::candidate_age_rule(self).map(|a| format!("age_at_stick = {}", a.name())))
+            // the dwell candidate's age rule, which the data chose (only its own: a model that
+            // carries a dwell term from an earlier stage has one in every candidate)
+            .chain(
+                (self.kind == EffectKind::DwellStiction)
+                    .then(|| self.fit.as_ref().and_then(|f| fit::age_rule(&f.model)))
+                    .flatten()
+                    .map(|a| format!("age_at_stick = {}", a.name())),
+            )
             .collect()
     }
 

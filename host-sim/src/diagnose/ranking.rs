@@ -490,14 +490,9 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     (grid_objective(info, x, f.rss, n_eff), f)
                 })
             };
-            // each shape value's profile point, and the best over the shapes
-            let keep = |shape: Option<f64>,
-                        (x, f, profile): fit::GridResult<Fit>,
-                        shape_profile: &mut Vec<(f64, f64)>,
+            // the best fit over every rule and shape value, kept in the order searched
+            let keep = |(x, f, profile): fit::GridResult<Fit>,
                         best: &mut Option<fit::GridResult<Fit>>| {
-                if let Some(v) = shape {
-                    shape_profile.push((v, f.rss));
-                }
                 if best
                     .as_ref()
                     .is_none_or(|(bx, bf, _)| objective(x, &f) < objective(*bx, bf))
@@ -517,33 +512,32 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                 .par_iter()
                 .map(|&rule| shapes.par_iter().map(|&s| search_at(rule, s)).collect())
                 .collect();
-            // the second shape parameter between its grid's points: the parabola through
-            // the best one and its neighbours in ln, searched once more there (the renewal
-            // distance on its decade grid left calibration dwell record 1701 at 1.83 %
-            // where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE,
-            // session 35)
-            let between: Vec<Option<(f64, fit::GridResult<Fit>)>> = rules
+            // each rule's profile over the second shape parameter, and between its grid's
+            // points the parabola through the best one and its neighbours in ln, searched once
+            // more there (the renewal distance on its decade grid left calibration dwell record
+            // 1701 at 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with
+            // RENEWAL_FINE, session 35)
+            let between: Vec<(ShapeProfile, Option<fit::GridResult<Fit>>)> = rules
                 .par_iter()
                 .zip(&on_grid)
                 .map(|(&rule, results)| {
-                    let profile: ShapeProfile = (shapes.iter().zip(results))
+                    let mut profile: ShapeProfile = (shapes.iter().zip(results))
                         .filter_map(|(s, (_, f, _))| s.map(|v| (v, f.rss)))
                         .collect();
-                    let v = shape_vertex_ln(&profile).map(f64::exp)?;
-                    Some((v, search_at(rule, Some(v))))
+                    let vertex = shape_vertex_ln(&profile).map(f64::exp).map(|v| {
+                        let searched = search_at(rule, Some(v));
+                        profile.push((v, searched.1.rss));
+                        searched
+                    });
+                    (profile, vertex)
                 })
                 .collect();
-            // each rule's profile over the second shape parameter
             let mut shape_profiles: Vec<(Option<DwellAge>, ShapeProfile)> = Vec::new();
-            for ((&rule, results), vertex) in rules.iter().zip(on_grid).zip(between) {
-                let mut shape_profile = Vec::new();
-                for (&shape, result) in shapes.iter().zip(results) {
-                    keep(shape, result, &mut shape_profile, &mut best);
+            for ((&rule, results), (profile, vertex)) in rules.iter().zip(on_grid).zip(between) {
+                for result in results.into_iter().chain(vertex) {
+                    keep(result, &mut best);
                 }
-                if let Some((v, result)) = vertex {
-                    keep(Some(v), result, &mut shape_profile, &mut best);
-                }
-                shape_profiles.push((rule, shape_profile));
+                shape_profiles.push((rule, profile));
             }
             let Some((x, f, profile)) = best else {
                 unreachable!("at least one shape value is searched")
