@@ -461,10 +461,14 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
             }
             // how some candidates were fitted: one line each, naming them
             type Flag = fn(&diagnose::Candidate) -> bool;
-            let how: [(Flag, &str); 3] = [
+            let how: [(Flag, &str); 4] = [
                 (|c| c.fitted_before_restart, diagnose::FITTED_BEFORE_RESTART),
                 (|c| c.settled_as_stage, diagnose::SETTLED_AS_STAGE),
                 (|c| c.from_static_table, diagnose::FROM_STATIC_TABLE),
+                (
+                    |c| c.from_nested_check.is_some(),
+                    diagnose::FROM_NESTED_CHECK,
+                ),
             ];
             for (which, what) in how {
                 let named = s.named_where(which);

@@ -389,6 +389,13 @@ pub struct Candidate {
     /// from it too; [`TABLE_SPANNED`]).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub from_static_table: bool,
+    /// The larger effect of a nested pair ([`NESTED`]) whose fit is the one the nested check
+    /// found: judged on top of the simpler effect fitted as a stage, it was significant, and
+    /// that fit with the simpler effect's term folded into its own (refitted as a stage) erred
+    /// less than the candidate's own search had reached (see `larger_on_top`): the error that
+    /// search had reached \[%\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub from_nested_check: Option<f64>,
     /// Where the table's fit won ([`Candidate::from_static_table`]): the fit from the current
     /// model it replaced, kept as a stage's start and for the verdict's yardstick
     /// ([`verdict_samples`]).
@@ -556,6 +563,7 @@ impl Candidate {
             staged: None,
             fitted_before_restart: false,
             from_static_table: false,
+            from_nested_check: None,
             model_start: None,
             settled_as_stage: false,
             kept_over_larger: None,

@@ -385,6 +385,12 @@ fn verdict(c: &super::Candidate) -> String {
     if c.from_static_table {
         v += &format!(" ({})", super::FROM_STATIC_TABLE);
     }
+    if let Some(own) = c.from_nested_check {
+        v += &format!(
+            " ({}; its own search had reached {own:.2} %)",
+            super::FROM_NESTED_CHECK
+        );
+    }
     if let Some(n) = c.kept_over_larger.filter(|_| c.significant) {
         // the whole sentence opens a one-stage page; a cell holds its numbers
         v += &format!(" (kept over {}, which contains it", n.larger);
