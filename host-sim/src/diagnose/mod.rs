@@ -389,8 +389,9 @@ pub struct Candidate {
     /// from it too; [`TABLE_SPANNED`]).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub from_static_table: bool,
-    /// The larger effect of a nested pair ([`NESTED`]) whose fit is the one the nested check
-    /// found: judged on top of the simpler effect fitted as a stage, it was significant, and
+    /// The larger effect of a nested pair ([`NESTED`]), not significant as a candidate, whose
+    /// fit is the one the nested check found: judged on top of the simpler effect fitted as a
+    /// stage, it was significant, and
     /// that fit with the simpler effect's term folded into its own (refitted as a stage) erred
     /// less than the candidate's own search had reached (see `larger_on_top`): the error that
     /// search had reached \[%\].
