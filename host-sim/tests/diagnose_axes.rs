@@ -259,7 +259,8 @@ fn an_asymmetry_is_not_read_as_the_offset_it_contains() {
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn an_asymmetry_its_candidate_stopped_short_of_is_handed_the_nested_checks_fit() {
-    let (d, axis) = diagnose(Some("asymmetry"), 33069, &[]);
+    // the asymmetry added too: the report shows the ranking it was chosen from
+    let (d, axis) = diagnose(Some("asymmetry"), 33069, &["asymmetry"]);
     let c = &d.stages[0].candidates;
     let named = |n: &str| c.iter().find(|c| c.kind.name() == n).unwrap();
     let (asymmetry, offset) = (named("asymmetry"), named("offset"));
@@ -279,6 +280,18 @@ fn an_asymmetry_its_candidate_stopped_short_of_is_handed_the_nested_checks_fit()
         err <= 1.2 * floor,
         "asymmetry {err:.3} % against the floor {floor:.3} %"
     );
+    // the report's ranking the asymmetry was chosen from says how its fit was found
+    let html = diagnose::report::html(&d, "axis.csv", None);
+    let chosen = html
+        .split("How each added effect was chosen")
+        .nth(1)
+        .expect("the section of the ranking the added effect was chosen from");
+    let said = format!(
+        "{}; its own search had reached {:.2}",
+        diagnose::FROM_NESTED_CHECK,
+        own.unwrap()
+    );
+    assert!(chosen.contains(&said), "{said}");
 }
 
 /// The nested check fits the simpler effect as a stage does, from both starts: on never-run

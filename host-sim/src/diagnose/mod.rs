@@ -391,10 +391,9 @@ pub struct Candidate {
     pub from_static_table: bool,
     /// The larger effect of a nested pair ([`NESTED`]), not significant as a candidate, whose
     /// fit is the one the nested check found: judged on top of the simpler effect fitted as a
-    /// stage, it was significant, and
-    /// that fit with the simpler effect's term folded into its own (refitted as a stage) erred
-    /// less than the candidate's own search had reached (see `larger_on_top`): the error that
-    /// search had reached \[%\].
+    /// stage, it was significant, and that fit with the simpler effect's term folded into its
+    /// own (refitted as a stage) erred less than the candidate's own search had reached (see
+    /// `larger_on_top`): the error that search had reached \[%\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub from_nested_check: Option<f64>,
     /// Where the table's fit won ([`Candidate::from_static_table`]): the fit from the current

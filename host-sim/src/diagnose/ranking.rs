@@ -203,11 +203,10 @@ fn prefer_nested(out: &mut [Candidate], on: &Scope, current: &Fit) {
 /// significant there, it explains what the simpler one cannot: the simpler one is marked with
 /// a caution and is neither detected nor significant, and the larger one's candidate, where it
 /// was not significant, is given the fit the check found where its own search stopped short of
-/// it ([`hand_over`]). (As
-/// candidates the larger one's fit can stop short of the simpler one's, which it contains: on
-/// held-out asymmetry records an offset candidate scored 3.47 % against the asymmetry's
-/// 3.88 %, and the offset was named. On 60 calibration records it took asymmetry from 25 of 30
-/// right to 29, offset 30 of 30 kept. Until session 69 the check ran only where the larger
+/// it ([`hand_over`]). (As candidates the larger one's fit can stop short of the simpler
+/// one's, which it contains: on held-out asymmetry records an offset candidate scored 3.47 %
+/// against the asymmetry's 3.88 %, and the offset was named. On 60 calibration records it took
+/// asymmetry from 25 of 30 right to 29, offset 30 of 30 kept. Until session 69 the check ran only where the larger
 /// candidate was significant too: on wide-axes asymmetry record 33069 the baseline sat in a
 /// poor valley, 11.30 %, the asymmetry's candidate stopped at 8.00 %, dBIC 3.7, and the
 /// offset, 7.35 %, was named, where the asymmetry on top of the offset's stage reaches
@@ -261,12 +260,13 @@ fn larger_on_top(
     }
 }
 
-/// [`larger_on_top`]'s hand-over: where the larger effect, judged on top of the simpler one's
-/// stage (`on_top`), is significant, that fit with the simpler effect's term removed (the
-/// larger one's own terms take it in: an asymmetry's two levels per direction hold an offset)
-/// is refitted and fitted as a stage from there. Where it errs less than the larger
-/// candidate's own fit, it becomes the candidate's fit, judged again against `current` (the
-/// candidate's own fit is kept as its [`Candidate::model_start`]). Whether it was handed over.
+/// [`larger_on_top`]'s hand-over, for a larger candidate that is not significant: where the
+/// larger effect, judged on top of the simpler one's stage (`on_top`), is significant, that
+/// fit with the simpler effect's term removed (the larger one's own terms take it in: an
+/// asymmetry's two levels per direction hold an offset) is refitted and fitted as a stage from
+/// there. Where it errs less than the larger candidate's own fit, it becomes the candidate's
+/// fit, judged again against `current` (the candidate's own fit is kept as its
+/// [`Candidate::model_start`]). Whether it was handed over.
 fn hand_over(
     candidate: &mut Candidate,
     on_top: &Candidate,

@@ -809,19 +809,8 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     out += &regime_bias(first, last)?;
     out += &breakaway_section(d, pred_first, pred_last)?;
     out += "<h2>Which effect is missing (next candidates, best first)</h2>";
-    let rows = candidate_rows(&last.candidates);
-    out += &table(
-        &rows,
-        &[
-            "effect",
-            "what it means",
-            "error with it",
-            "dBIC",
-            "force it explains (rms)",
-            "verdict",
-            "parameters (95 % interval)",
-        ],
-    );
+    out += &table(&candidate_rows(&last.candidates), &CANDIDATE_HEAD);
+    out += &chosen_sections(d);
     out += "<h2>Final model</h2><p>Every parameter of the model the record ends with, in the \
             parameter file's names and units; the 95 % interval where the fit determined it, and \
             what it is where it did not.</p>";
@@ -867,6 +856,43 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     out += "</body></html>";
     Ok(out)
 }
+
+/// Where effects were added (`--add`, `--auto`), each earlier stage's candidate table: the
+/// ranking the added effect was chosen from, with each candidate's verdict and how it was
+/// fitted (a candidate handed the nested check's fit says so). The section "Which effect is
+/// missing" shows the last stage's only. Empty for a one-stage diagnosis.
+fn chosen_sections(d: &Diagnosis) -> String {
+    let mut out = String::new();
+    for w in d.stages.windows(2) {
+        let (Some(added), false) = (w[1].effect, w[0].candidates.is_empty()) else {
+            continue;
+        };
+        if out.is_empty() {
+            out += "<h2>How each added effect was chosen</h2>";
+        }
+        out += &format!(
+            "<p><b>{}</b> ({:.2}{NBSP}%): its candidates, best first; <b>{}</b> was added \
+             ({:.2}{NBSP}%).</p>",
+            escape(&w[0].label),
+            w[0].fit.rel_err_pct,
+            escape(added.name()),
+            w[1].fit.rel_err_pct
+        );
+        out += &table(&candidate_rows(&w[0].candidates), &CANDIDATE_HEAD);
+    }
+    out
+}
+
+/// The candidate tables' column heads ([`candidate_rows`]).
+const CANDIDATE_HEAD: [&str; 7] = [
+    "effect",
+    "what it means",
+    "error with it",
+    "dBIC",
+    "force it explains (rms)",
+    "verdict",
+    "parameters (95 % interval)",
+];
 
 /// The candidate table's rows: effect, meaning, error with it, dBIC, the force it explains,
 /// the verdict, and its parameters with their intervals ([`Candidate::parameter_texts`]: an
