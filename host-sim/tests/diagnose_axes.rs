@@ -249,8 +249,9 @@ fn an_asymmetry_is_not_read_as_the_offset_it_contains() {
     nested_answer(("asymmetry", 1020), "offset", "contains it");
 }
 
-/// Where the larger effect of a nested pair is significant on top of the simpler one's stage,
-/// its candidate is given that fit (`diagnose::FROM_NESTED_CHECK`): on asymmetry record 33069
+/// Where the larger effect of a nested pair is significant on top of the simpler one's stage
+/// and not significant as a candidate, its candidate is given that fit
+/// (`diagnose::FROM_NESTED_CHECK`): on asymmetry record 33069
 /// (hydraulic, one departure from rest; session 68) the baseline sat in a poor valley, 11.30 %,
 /// the asymmetry's own candidate stopped at 8.00 % (dBIC 3.7, not significant) and the offset
 /// (7.35 %) was named, where the asymmetry on top of the offset's stage reaches 0.60 %. The
