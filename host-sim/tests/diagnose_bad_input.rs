@@ -194,3 +194,42 @@ fn asymmetric_record() -> host_sim::record::Record {
     host_sim::scenarios::with_effect(&mut cfg, "asymmetry", 1.0).unwrap();
     host_sim::scenarios::diagnosis_run(&cfg, host_sim::plant::SensorConfig::realistic(3), 12.0)
 }
+
+/// Where an effect is added (`--add`), the text output lists each stage's candidates, the
+/// earlier one saying which effect was added next: the ranking it was chosen from (until
+/// session 69 only the last stage's list was printed, and with `--auto` the user could not
+/// see why an effect had been added).
+#[test]
+fn cli_lists_the_ranking_each_added_effect_was_chosen_from() {
+    let exe = env!("CARGO_BIN_EXE_host-sim");
+    let dir = std::env::temp_dir().join(format!("lugre-stages-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let data = dir.join("r.csv");
+    record(3000, true).write(&data).unwrap();
+    let out = std::process::Command::new(exe)
+        .args(["diagnose", "--data"])
+        .arg(&data)
+        .args(["--add", "offset"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let chosen = text
+        .find("candidate effects (best first; offset was added next):")
+        .expect(&text);
+    let last = text.find("candidate effects (best first):").expect(&text);
+    assert!(chosen < last, "{text}");
+    // the earlier list holds the offset it chose, the last one no longer does
+    let offset_rows = |list: &str| {
+        list.lines()
+            .filter(|l| l.trim_start().starts_with("offset "))
+            .count()
+    };
+    assert_eq!(offset_rows(&text[chosen..last]), 1, "{text}");
+    assert_eq!(offset_rows(&text[last..]), 0, "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}

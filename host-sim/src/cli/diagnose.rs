@@ -426,56 +426,18 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
         for f in &s.regimes.findings {
             println!("   - {f}");
         }
-        if i + 1 == d.stages.len() {
-            println!("   candidate effects (best first):");
-            for c in &s.candidates {
-                match (&c.skipped, c.rel_err_pct, c.delta_bic) {
-                    (Some(why), _, _) => println!("   {:<24} skipped: {why}", c.kind),
-                    (None, Some(e), Some(b)) => {
-                        let params = c.parameter_texts();
-                        println!(
-                            "   {:<24} {:>6.2} %  dBIC {:>8.1}  explains {:>7.3} N  {}  {}",
-                            c.kind,
-                            e,
-                            b,
-                            c.explained_rms_n,
-                            if c.significant {
-                                "SIGNIFICANT"
-                            } else {
-                                "not significant"
-                            },
-                            params.join(", ")
-                        );
-                        if c.significant {
-                            println!("   {:<24} -> {}", "", c.meaning);
-                            if let Some(n) = &c.kept_over_larger {
-                                println!("   {:<24} -> {n}", "");
-                            }
-                        }
-                        if let Some(why) = &c.caution {
-                            println!("   {:<24} -> cannot be significant: {why}", "");
-                        }
-                    }
-                    _ => {}
+        let last = i + 1 == d.stages.len();
+        if last || !s.candidates.is_empty() {
+            // an earlier stage's ranking is the one the next stage's effect was chosen from
+            match d.stages.get(i + 1).and_then(|next| next.effect) {
+                Some(next) => {
+                    println!("   candidate effects (best first; {next} was added next):")
                 }
+                None => println!("   candidate effects (best first):"),
             }
-            // how some candidates were fitted: one line each, naming them
-            type Flag = fn(&diagnose::Candidate) -> bool;
-            let how: [(Flag, &str); 4] = [
-                (|c| c.fitted_before_restart, diagnose::FITTED_BEFORE_RESTART),
-                (|c| c.settled_as_stage, diagnose::SETTLED_AS_STAGE),
-                (|c| c.from_static_table, diagnose::FROM_STATIC_TABLE),
-                (
-                    |c| c.from_nested_check.is_some(),
-                    diagnose::FROM_NESTED_CHECK,
-                ),
-            ];
-            for (which, what) in how {
-                let named = s.named_where(which);
-                if !named.is_empty() {
-                    println!("   {}: {what}", named.join(", "));
-                }
-            }
+            print_candidates(s);
+        }
+        if last {
             if !s.candidates.iter().any(|c| c.significant) {
                 let beyond = d.beyond_the_eight(s);
                 match s.near_miss() {
@@ -513,4 +475,58 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
         wall_s
     );
     println!("(where the diagnosis's time went: {})", d.times);
+}
+
+/// A stage's candidate list for [`print_text`]: each candidate's error, dBIC, the force it
+/// explains, its verdict and parameters, then one line for each way some candidates were
+/// fitted, naming them.
+fn print_candidates(s: &diagnose::Stage) {
+    for c in &s.candidates {
+        match (&c.skipped, c.rel_err_pct, c.delta_bic) {
+            (Some(why), _, _) => println!("   {:<24} skipped: {why}", c.kind),
+            (None, Some(e), Some(b)) => {
+                let params = c.parameter_texts();
+                println!(
+                    "   {:<24} {:>6.2} %  dBIC {:>8.1}  explains {:>7.3} N  {}  {}",
+                    c.kind,
+                    e,
+                    b,
+                    c.explained_rms_n,
+                    if c.significant {
+                        "SIGNIFICANT"
+                    } else {
+                        "not significant"
+                    },
+                    params.join(", ")
+                );
+                if c.significant {
+                    println!("   {:<24} -> {}", "", c.meaning);
+                    if let Some(n) = &c.kept_over_larger {
+                        println!("   {:<24} -> {n}", "");
+                    }
+                }
+                if let Some(why) = &c.caution {
+                    println!("   {:<24} -> cannot be significant: {why}", "");
+                }
+            }
+            _ => {}
+        }
+    }
+    // how some candidates were fitted: one line each, naming them
+    type Flag = fn(&diagnose::Candidate) -> bool;
+    let how: [(Flag, &str); 4] = [
+        (|c| c.fitted_before_restart, diagnose::FITTED_BEFORE_RESTART),
+        (|c| c.settled_as_stage, diagnose::SETTLED_AS_STAGE),
+        (|c| c.from_static_table, diagnose::FROM_STATIC_TABLE),
+        (
+            |c| c.from_nested_check.is_some(),
+            diagnose::FROM_NESTED_CHECK,
+        ),
+    ];
+    for (which, what) in how {
+        let named = s.named_where(which);
+        if !named.is_empty() {
+            println!("   {}: {what}", named.join(", "));
+        }
+    }
 }
