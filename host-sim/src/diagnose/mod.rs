@@ -46,6 +46,7 @@ use crate::record::Record;
 use breakaway::Breakaway;
 use fit::{Fit, Param};
 use inverse::{AxisModel, Prepared, Protocol};
+use lugre_servo::friction::effects::PositionDependence;
 use lugre_servo::friction::{EffectKind, FrictionModel, LugreParams};
 use rayon::prelude::*;
 use regimes::RegimeReport;
@@ -510,13 +511,53 @@ impl core::fmt::Display for NestedCheck {
     }
 }
 
+/// Points [`stroke_levels`] evaluates a position dependence at.
+const STROKE_LEVEL_POINTS: usize = 1025;
+
+/// The lowest and the highest level shift \[N\] a position dependence gives over the stroke its
+/// cosine series spans (`center - half_span .. center + half_span`: the stroke the record
+/// visited, [`fit::add_effect`]), on [`STROKE_LEVEL_POINTS`] evenly spaced positions: what the
+/// gradient and the cosine terms do together.
+pub fn stroke_levels(pd: &PositionDependence<f64>) -> (f64, f64) {
+    (0..STROKE_LEVEL_POINTS)
+        .map(|k| {
+            let u = k as f64 / (STROKE_LEVEL_POINTS - 1) as f64;
+            pd.shift(pd.center + (2.0 * u - 1.0) * pd.half_span)
+        })
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), d| {
+            (lo.min(d), hi.max(d))
+        })
+}
+
 impl Candidate {
     /// Its parameters as the candidate lists show them (the CLI's and the report's), one text
     /// each: `name = value [low, high]`, the 95 % interval, with a note where the value ended
-    /// at the edge of its search range (never silent), and a dwell term's age rule.
+    /// at the edge of its search range (never silent), and a dwell term's age rule; a position
+    /// dependence's net shape first, the lowest and highest level shift along the visited
+    /// stroke ([`stroke_levels`]).
     pub fn parameter_texts(&self) -> Vec<String> {
-        (self.parameters.iter())
-            .map(|q| {
+        // a position dependence's net shape first: its gradient and cosine terms are nearly
+        // collinear (a ramp's cosine series), so each can be large while their sum moves the
+        // friction by far less (effect-free record 2930: a gradient of -3853 N/m and cosine_1
+        // -292 N on an axis whose Coulomb level is 78 N; together they move it by 25 N)
+        let net_shape = (self.kind == EffectKind::PositionDependence)
+            .then(|| {
+                let f = self.fit.as_ref()?;
+                f.model.friction.effects.position_dependence.as_ref()
+            })
+            .flatten()
+            .map(|pd| {
+                let (low, high) = stroke_levels(pd);
+                format!(
+                    "along the stroke visited ({:.4} .. {:.4} m) the level moves between \
+                     {low:.4e} and {high:.4e} N",
+                    pd.center - pd.half_span,
+                    pd.center + pd.half_span
+                )
+            });
+        net_shape
+            .into_iter()
+            .chain(self.parameters.iter().map(|q| {
                 let edge = if q.at_search_edge {
                     " (at the edge of its search range)"
                 } else {
@@ -526,7 +567,7 @@ impl Candidate {
                     "{} = {:.4e} [{:.3e}, {:.3e}]{edge}",
                     q.name, q.value, q.ci_low, q.ci_high
                 )
-            })
+            }))
             // the dwell candidate's age rule, which the data chose (only its own: a model that
             // carries a dwell term from an earlier stage has one in every candidate)
             .chain(
@@ -1298,6 +1339,44 @@ mod tests {
         let mut c = candidate(true, mid);
         c.caution = Some("untestable".into());
         assert!(c.near_cut().is_none(), "a caution says why instead");
+    }
+}
+
+#[cfg(test)]
+mod stroke_level_tests {
+    use super::*;
+    use lugre_servo::friction::effects::POSITION_TERMS;
+
+    /// A plain gradient moves the level by `k_x` times the stroke; the same gradient with the
+    /// cosine terms of its own ramp subtracted (`2u - 1 = -sum_odd 8 cos(j pi u) / (j pi)^2`)
+    /// hardly moves it, however large each term is: the net shape the candidate list states,
+    /// not the terms.
+    #[test]
+    fn a_gradient_cancelled_by_its_cosine_series_hardly_moves_the_level() {
+        let (gradient, center, half_span) = (-3853.0, 0.15, 0.14);
+        let plain = PositionDependence::linear(gradient, center);
+        let plain = PositionDependence { half_span, ..plain };
+        let (lo, hi) = stroke_levels(&plain);
+        let ramp = gradient * 2.0 * half_span;
+        assert!(
+            (hi - lo - ramp.abs()).abs() < 1e-9 * ramp.abs(),
+            "{lo} {hi}"
+        );
+        assert!((lo - gradient * half_span).abs() < 1e-9, "{lo}");
+        let mut cancelled = PositionDependence {
+            terms: POSITION_TERMS,
+            ..plain
+        };
+        for (j, c) in (1..=POSITION_TERMS).zip(cancelled.cosine.iter_mut()) {
+            if j % 2 == 1 {
+                let jp = j as f64 * std::f64::consts::PI;
+                *c = gradient * half_span * 8.0 / (jp * jp);
+            }
+        }
+        let (lo, hi) = stroke_levels(&cancelled);
+        assert!(cancelled.cosine[0].abs() > 200.0, "{}", cancelled.cosine[0]);
+        assert!(hi - lo < 0.1 * ramp.abs(), "{lo} .. {hi} against {ramp}");
+        assert!(lo.is_finite() && hi.is_finite());
     }
 }
 
