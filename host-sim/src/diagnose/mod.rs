@@ -516,8 +516,8 @@ const STROKE_LEVEL_POINTS: usize = 1025;
 
 /// The lowest and the highest level shift \[N\] a position dependence gives over the stroke its
 /// cosine series spans (`center - half_span .. center + half_span`: the stroke the record
-/// visited, [`fit::add_effect`]), on `STROKE_LEVEL_POINTS` (1 025) evenly spaced positions: what the
-/// gradient and the cosine terms do together.
+/// visited, [`fit::add_effect`]), on `STROKE_LEVEL_POINTS` (1 025) evenly spaced positions:
+/// what the gradient and the cosine terms do together.
 pub fn stroke_levels(pd: &PositionDependence<f64>) -> (f64, f64) {
     (0..STROKE_LEVEL_POINTS)
         .map(|k| {
