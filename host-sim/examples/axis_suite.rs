@@ -293,17 +293,10 @@ fn main() {
         .position(|a| a == "--seeds")
         .and_then(|i| args.get(i + 1))
     {
-        jobs = list
-            .split(',')
-            .flat_map(|item| {
-                let (e, seeds) = item.split_once(':').expect("EFFECT:SEED or EFFECT:A..B");
-                let effect = generators::axis::effect_named(e).unwrap_or_else(|e| panic!("{e}"));
-                let seed = |s: &str| s.parse::<u64>().expect("seed");
-                let (a, b) = seeds
-                    .split_once("..")
-                    .map_or_else(|| (seed(seeds), seed(seeds)), |(a, b)| (seed(a), seed(b)));
-                (a..=b).map(move |s| (effect, s, "seeds"))
-            })
+        jobs = generators::axis::seed_list(list)
+            .unwrap_or_else(|e| panic!("--seeds {e}"))
+            .into_iter()
+            .map(|(effect, seed)| (effect, seed, "seeds"))
             .collect();
     }
     let bar = ProgressBar::new(jobs.len() as u64).with_style(

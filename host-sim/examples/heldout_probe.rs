@@ -8,8 +8,8 @@
 //! the weighted squared error (`1 - RSS_candidate / RSS_baseline`) in sample (the diagnosis's
 //! fits), on the training stretches, and held out (both folds' squared errors summed).
 //!
-//! `cargo run --release -p host-sim --example heldout_probe -- [--axes issue] EFFECT:LO..HI ...`
-//! (`none:2930..2930` for one effect-free record; seeds as `axis_suite --seeds`).
+//! `cargo run --release -p host-sim --example heldout_probe -- [--axes issue] EFFECT:LO..HI,...`
+//! (`none:2930` for one effect-free record; the list as `axis_suite --seeds` takes it).
 //!
 //! What it showed (README, "A held-out check does not separate the false positives"): on
 //! interleaved 1 s stretches the false positives' gains hold out of sample as the real
@@ -20,46 +20,34 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_of, Axes, ContactKind, Family, Sensors, EFFECTS};
+use generators::axis::{random_record_of, seed_list, Axes, ContactKind, Family, Sensors};
 use host_sim::diagnose::{self, fit, Options};
 use host_sim::record::Record;
 use rayon::prelude::*;
 use std::path::Path;
 
-/// Stretches the record is cut into (alternately held out); `HELDOUT_BLOCKS` overrides.
-fn blocks() -> usize {
-    std::env::var("HELDOUT_BLOCKS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(10)
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let axes = Axes::from_args(&args);
+    let blocks = std::env::var("HELDOUT_BLOCKS").ok().map_or(10, |s| {
+        s.parse()
+            .expect("HELDOUT_BLOCKS: a whole number of stretches")
+    });
     let mut jobs: Vec<(Option<&'static str>, u64)> = Vec::new();
-    for a in args.iter().filter(|a| a.contains("..")) {
-        let (name, range) = a.split_once(':').expect("EFFECT:LO..HI");
-        let (lo, hi) = range.split_once("..").expect("LO..HI");
-        let effect = if name == "none" {
-            None
-        } else {
-            Some(*EFFECTS.iter().find(|e| **e == name).expect("effect name"))
-        };
-        for s in lo.parse::<u64>().unwrap()..=hi.parse::<u64>().unwrap() {
-            jobs.push((effect, s));
-        }
+    for list in args.iter().filter(|a| a.contains(':')) {
+        jobs.extend(seed_list(list).unwrap_or_else(|e| panic!("{e}")));
     }
     let rows: Vec<String> = jobs
         .par_iter()
-        .map(|&(effect, seed)| one(effect, seed, axes))
+        .map(|&(effect, seed)| one(effect, seed, axes, blocks))
         .collect();
     for r in rows {
         println!("{r}");
     }
 }
 
-fn one(effect: Option<&'static str>, seed: u64, axes: Axes) -> String {
+/// One record's row; `blocks`: stretches the record is cut into (alternately held out).
+fn one(effect: Option<&'static str>, seed: u64, axes: Axes, blocks: usize) -> String {
     let hidden = effect.unwrap_or("none");
     let (text, _axis) = random_record_of(
         effect,
@@ -81,8 +69,7 @@ fn one(effect: Option<&'static str>, seed: u64, axes: Axes) -> String {
     let n = p.len();
     let (mut test_base, mut test_cand, mut train_base, mut train_cand) = (0.0, 0.0, 0.0, 0.0);
     for fold in 0..2 {
-        let b = blocks();
-        let held = |i: usize| (i * b / n) % 2 == fold;
+        let held = |i: usize| (i * blocks / n) % 2 == fold;
         let mut train = p.clone();
         for (i, w) in train.weight.iter_mut().enumerate() {
             if held(i) {

@@ -540,12 +540,11 @@ impl Candidate {
         // collinear (a ramp's cosine series), so each can be large while their sum moves the
         // friction by far less (effect-free record 2930: a gradient of -3853 N/m and cosine_1
         // -292 N on an axis whose Coulomb level is 78 N; together they move it by 25 N)
-        let net_shape = (self.kind == EffectKind::PositionDependence)
-            .then(|| {
-                let f = self.fit.as_ref()?;
-                f.model.friction.effects.position_dependence.as_ref()
-            })
-            .flatten()
+        let net_shape = self
+            .fit
+            .as_ref()
+            .filter(|_| self.kind == EffectKind::PositionDependence)
+            .and_then(|f| f.model.friction.effects.position_dependence.as_ref())
             .map(|pd| {
                 let (low, high) = stroke_levels(pd);
                 format!(
@@ -571,9 +570,10 @@ impl Candidate {
             // the dwell candidate's age rule, which the data chose (only its own: a model that
             // carries a dwell term from an earlier stage has one in every candidate)
             .chain(
-                (self.kind == EffectKind::DwellStiction)
-                    .then(|| self.fit.as_ref().and_then(|f| fit::age_rule(&f.model)))
-                    .flatten()
+                self.fit
+                    .as_ref()
+                    .filter(|_| self.kind == EffectKind::DwellStiction)
+                    .and_then(|f| fit::age_rule(&f.model))
                     .map(|a| format!("age_at_stick = {}", a.name())),
             )
             .collect()

@@ -64,6 +64,30 @@ pub fn effect_named(name: &str) -> Result<Option<&'static str>, String> {
         })
 }
 
+/// The records a benchmark's `EFFECT:SEED,...` list names (`EFFECT:A..B` for seeds A to B,
+/// `none` for effect-free), in order; an unknown effect or a seed that is not a number is an
+/// error naming the item.
+#[allow(dead_code)]
+pub fn seed_list(list: &str) -> Result<Vec<(Option<&'static str>, u64)>, String> {
+    let mut records = Vec::new();
+    for item in list.split(',').filter(|i| !i.is_empty()) {
+        let (name, seeds) = item
+            .split_once(':')
+            .ok_or_else(|| format!("{item}: expected EFFECT:SEED or EFFECT:A..B"))?;
+        let effect = effect_named(name)?;
+        let seed = |s: &str| {
+            s.parse::<u64>()
+                .map_err(|_| format!("{item}: seed {s:?} is not a whole number"))
+        };
+        let (first, last) = match seeds.split_once("..") {
+            Some((a, b)) => (seed(a)?, seed(b)?),
+            None => (seed(seeds)?, seed(seeds)?),
+        };
+        records.extend((first..=last).map(|s| (effect, s)));
+    }
+    Ok(records)
+}
+
 /// Sample period of the record [s].
 pub const DT: f64 = 1e-3;
 /// Integration sub-steps per sample.
