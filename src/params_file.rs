@@ -132,6 +132,13 @@ mod tables {
         pub viscous_per_kelvin: f64,
         pub coulomb_per_kelvin: f64,
         pub reference_temperature_c: f64,
+        /// how the Stribeck curve follows the viscosity, `vs eta^-q` (absent: 0, the curve
+        /// does not move with temperature, as files written before it was known)
+        #[serde(default, skip_serializing_if = "is_zero")]
+        pub stribeck_hersey_exponent: f64,
+    }
+    fn is_zero(x: &f64) -> bool {
+        *x == 0.0
     }
     #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
     #[serde(deny_unknown_fields)]
@@ -250,6 +257,7 @@ impl ParamFile {
                     viscous_per_kelvin: t.viscous_per_kelvin,
                     coulomb_per_kelvin: t.coulomb_per_kelvin,
                     reference_temperature_c: t.reference_temperature,
+                    stribeck_hersey_exponent: t.stribeck_hersey_exponent,
                 }),
                 stribeck_shape: e.stribeck_shape.map(|s| ShapeT {
                     exponent: s.exponent,
@@ -406,12 +414,21 @@ impl ParamFile {
                     t.viscous_per_kelvin,
                     t.coulomb_per_kelvin,
                     t.reference_temperature_c,
+                    t.stribeck_hersey_exponent,
                 ],
             )?;
+            // a curve that lifts sooner as the oil thins has no physical reading
+            if t.stribeck_hersey_exponent < 0.0 {
+                return Err(InvalidParams::Negative {
+                    effect: K::TemperatureDependence,
+                    field: "stribeck_hersey_exponent",
+                });
+            }
             effects.temperature_dependence = Some(fx::TemperatureDependence {
                 viscous_per_kelvin: t.viscous_per_kelvin,
                 coulomb_per_kelvin: t.coulomb_per_kelvin,
                 reference_temperature: t.reference_temperature_c,
+                stribeck_hersey_exponent: t.stribeck_hersey_exponent,
             });
         }
         if let Some(s) = e.stribeck_shape {
@@ -585,6 +602,14 @@ pub enum InvalidParams {
     /// An effect's field must be positive.
     #[error("[effects.{effect}] {field} must be greater than zero")]
     NotPositive {
+        /// The effect's table.
+        effect: EffectKind,
+        /// The key.
+        field: &'static str,
+    },
+    /// An effect's field must be zero or more.
+    #[error("[effects.{effect}] {field} must be zero or greater")]
+    Negative {
         /// The effect's table.
         effect: EffectKind,
         /// The key.

@@ -173,3 +173,90 @@ fn a_file_with_cosine_terms_reaches_f32_within_its_rounding() {
     };
     assert!((at(0.1) - at(0.4)).abs() > 5.0);
 }
+
+/// The temperature law's Hersey exponent `q` travels through the parameter file and the f32
+/// cast: written only when not 0, read back as written, 0 where a file written before it
+/// lacks it, refused when negative (with the key named); the f32 model's steady-state force
+/// under a warm oil stays within single precision of the f64 one (the curve moved by
+/// `eta^-q` in both).
+#[test]
+fn the_hersey_exponent_round_trips_and_a_negative_one_is_refused() {
+    use lugre_servo::friction::{Conditions, FrictionModel};
+    use lugre_servo::params_file::ParamFile;
+    let text = |q: Option<f64>| {
+        format!(
+            "[lugre]\n\
+             bristle_stiffness_n_per_m = 2.97e9\n\
+             bristle_damping_n_s_per_m = 500.0\n\
+             viscous_coefficient_n_s_per_m = 48900.0\n\
+             coulomb_force_n = 505.7\n\
+             static_force_n = 631.9\n\
+             stribeck_velocity_m_per_s = 0.005\n\
+             [axis]\n\
+             moving_mass_kg = 200.0\n\
+             [effects.temperature_dependence]\n\
+             viscous_per_kelvin = 0.02\n\
+             coulomb_per_kelvin = 0.002\n\
+             reference_temperature_c = 40.0\n{}",
+            q.map_or(String::new(), |q| format!(
+                "stribeck_hersey_exponent = {q}\n"
+            ))
+        )
+    };
+    let path = std::path::Path::new("warm.toml");
+    let (_, old) = ParamFile::parse(&text(None), path).unwrap();
+    assert_eq!(
+        old.effects
+            .temperature_dependence
+            .unwrap()
+            .stribeck_hersey_exponent,
+        0.0
+    );
+    let written = toml::to_string_pretty(&ParamFile::new(&old, 200.0)).unwrap();
+    assert!(!written.contains("stribeck_hersey_exponent"), "{written}");
+    let (_, model) = ParamFile::parse(&text(Some(0.7)), path).unwrap();
+    let t = model.effects.temperature_dependence.unwrap();
+    assert_eq!(t.stribeck_hersey_exponent, 0.7);
+    let written = toml::to_string_pretty(&ParamFile::new(&model, 200.0)).unwrap();
+    let (_, back) = ParamFile::parse(&written, path).unwrap();
+    assert_eq!(back, model);
+    let err = ParamFile::parse(&text(Some(-0.1)), path).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.contains("temperature_dependence") && msg.contains("stribeck_hersey_exponent"),
+        "{msg}"
+    );
+    let m32: FrictionModel<f32> = model.cast().unwrap();
+    let warm = Conditions {
+        position: 0.0,
+        pressure_sum: 0.0,
+        temperature: 65.0,
+    };
+    let warm32 = Conditions {
+        position: 0.0,
+        pressure_sum: 0.0,
+        temperature: 65.0f32,
+    };
+    let mut worst = 0.0f64;
+    for i in 1..=200 {
+        let v = 0.03 * i as f64 / 200.0;
+        for v in [v, -v] {
+            let f64_force = model.steady_state_force(v, &warm);
+            let f32_force = f64::from(m32.steady_state_force(v as f32, &warm32));
+            worst = worst.max((f32_force - f64_force).abs() / f64_force.abs());
+        }
+    }
+    // the curve did move: at the reference velocity it differs from the fixed curve's
+    let mut fixed = model;
+    fixed.effects.temperature_dependence =
+        Some(lugre_servo::friction::effects::TemperatureDependence {
+            stribeck_hersey_exponent: 0.0,
+            ..t
+        });
+    assert!(
+        (fixed.steady_state_force(0.005, &warm) - model.steady_state_force(0.005, &warm)).abs()
+            > 1.0
+    );
+    println!("largest f32 - f64 steady-state difference, warm oil: {worst:.2e} (relative)");
+    assert!(worst < 1e-5, "f32 {worst} from f64");
+}

@@ -37,6 +37,8 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::R
                 viscous_per_kelvin: 0.02 * s,
                 coulomb_per_kelvin: 0.01 * s,
                 reference_temperature: cfg.thermal.initial_c,
+                // host-sim's plant keeps the Stribeck curve fixed (its law before session 74)
+                stribeck_hersey_exponent: 0.0,
             });
             // warm the oil by ~15-20 K over a minute (pump and throttling losses)
             cfg.thermal.heat_capacity_j_per_k = 4_000.0;

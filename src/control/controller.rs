@@ -620,7 +620,10 @@ impl Controller {
         }
         out.health_warning = self.health.warning();
         // 7. refinement, after the output: it adapts the model the next period uses
-        if self.config.features.refinement && self.ramp.is_none() && !self.refine(measured_force) {
+        if self.config.features.refinement
+            && self.ramp.is_none()
+            && !self.refine(&cond, measured_force)
+        {
             out.faults.insert(Faults::REFINEMENT_RESET);
         }
         out
@@ -852,12 +855,13 @@ impl Controller {
 
     /// Online refinement of Fc, Fs - Fc and sigma2 from the measured friction; false when it
     /// diverged and was reset to the identified parameters.
-    fn refine(&mut self, measured_force: f32) -> bool {
+    fn refine(&mut self, cond: &UnderConditions<f32>, measured_force: f32) -> bool {
         let c = &self.config;
         let est = self.estimator;
         let y = measured_force - c.mass_kg * est.acceleration;
-        // the model's own decay: its shape, and the direction's vs under asymmetry
-        let decay = self.model.stribeck_decay(est.velocity);
+        // the model's own decay: its shape, the direction's vs under asymmetry, and the
+        // period's oil temperature's under a Stribeck curve that follows the viscosity
+        let decay = self.model.stribeck_decay_under(est.velocity, cond);
         if !self
             .refiner
             .update(&c.refine, y, est.velocity, est.acceleration, decay)

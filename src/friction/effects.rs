@@ -11,7 +11,7 @@
 //! | `offset` | `F += F0` (constant external force, e.g. gravity on an inclined axis) |
 //! | `load_dependence` | `Fc -> L Fc`, `Fs - Fc -> (1 + beta (L - 1)) (Fs - Fc)`, `L = 1 + dF(p) / Fs`, `dF = k p_ref ((p / p_ref)^gamma - 1) / gamma + sum c_j cos(j pi u(p))`, `p = p_a + p_b` (the seal's normal force: preload + pressure-energised; `k (p - p_ref)` at `gamma = 1`; the cosine series over the pressure sums a smooth response the data picks) |
 //! | `position_dependence` | `Fc, Fs += k_x (x - x_c) + sum_j c_j cos(j pi u)`, `u = (x - x_c) / 2L + 1/2` in [0, 1] (friction varying along the stroke) |
-//! | `temperature_dependence` | `sigma2 -> sigma2 exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs` |
+//! | `temperature_dependence` | `sigma2 -> sigma2 eta`, `eta = exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs`, `vs -> vs eta^-q` (the Stribeck curve a function of the Hersey number `eta v`) |
 //! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
 //! | `viscous_power` | `F_visc = sigma2 v_r sign(v) |v / v_r|^delta` (equals `sigma2 v` at `v = v_r`) |
 //! | `dwell_stiction` | `Fs += dF (1 - exp(-t_dwell / tau))`, `t_dwell` = time stuck (carried on from the last slide or restarted at each stick: [`DwellAge`]), forgotten as `exp(-s / D)` over the slid distance `s` |
@@ -248,6 +248,32 @@ pub struct TemperatureDependence<T> {
     pub coulomb_per_kelvin: T,
     /// `T_ref` \[degC\]: the temperature at which the base parameters hold.
     pub reference_temperature: T,
+    /// `q` [-] >= 0: how the Stribeck curve follows the oil's viscosity. The lubricating film
+    /// that lifts the contact grows with the Hersey number `eta v / p` (`eta = exp(-k_v dT)`
+    /// the viscosity ratio the viscous term uses), so the curve is taken at `v eta^q`: the
+    /// Stribeck velocity becomes `vs eta^-q` (thinner oil needs more speed to lift). 0: the
+    /// curve does not move with temperature (the law before session 74); 1: it is a function
+    /// of `eta v` alone.
+    pub stribeck_hersey_exponent: T,
+}
+
+impl<T: Float> TemperatureDependence<T> {
+    /// The factor `eta^-q = exp(q k_v (T - T_ref))` of the Stribeck velocity at oil temperature
+    /// `temperature` \[degC\]: exactly 1 at `q = 0` (no power evaluated), and 1 where the
+    /// factor would not be a positive finite number (a temperature that is not a number), so
+    /// that a bad reading leaves the curve where it was instead of making it NaN.
+    pub fn stribeck_velocity_scale(&self, temperature: T) -> T {
+        if self.stribeck_hersey_exponent == T::zero() {
+            return T::one();
+        }
+        let dt = temperature - self.reference_temperature;
+        let scale = (self.stribeck_hersey_exponent * self.viscous_per_kelvin * dt).exp();
+        if scale.is_finite() && scale > T::zero() {
+            scale
+        } else {
+            T::one()
+        }
+    }
 }
 
 /// Stribeck exponent other than 2.
@@ -476,6 +502,7 @@ impl<T: Float> Effects<T> {
                 viscous_per_kelvin: c(t.viscous_per_kelvin),
                 coulomb_per_kelvin: c(t.coulomb_per_kelvin),
                 reference_temperature: c(t.reference_temperature),
+                stribeck_hersey_exponent: c(t.stribeck_hersey_exponent),
             }),
             stribeck_shape: self.stribeck_shape.map(|s| StribeckShape {
                 exponent: c(s.exponent),
@@ -582,6 +609,7 @@ pub(crate) fn every_effect() -> Effects<f64> {
         viscous_per_kelvin: 0.01,
         coulomb_per_kelvin: 0.001,
         reference_temperature: 40.0,
+        stribeck_hersey_exponent: 0.3,
     });
     all.stribeck_shape = Some(StribeckShape { exponent: 1.5 });
     all.viscous_power = Some(ViscousPower {

@@ -59,6 +59,9 @@ pub struct UnderConditions<T> {
     position_shift: T,
     /// `temperature_dependence`'s scale of both levels and factor of the viscous coefficient.
     temperature: Option<(T, T)>,
+    /// `temperature_dependence`'s factor of the Stribeck velocity, `eta^-q` (1 without it or
+    /// with `q = 0`): formed here once, so a step pays one multiplication, not a power.
+    stribeck_velocity_scale: T,
 }
 
 /// Mutable state of a [`FrictionModel`].
@@ -166,6 +169,9 @@ impl<T: ModelFloat> FrictionModel<T> {
                     (-t.viscous_per_kelvin * dt).exp(),
                 )
             }),
+            stribeck_velocity_scale: e
+                .temperature_dependence
+                .map_or(T::one(), |t| t.stribeck_velocity_scale(c.temperature)),
         }
     }
 
@@ -228,9 +234,26 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// It depends on the velocity, `vs`, `rvs` and `delta` only, not on the levels: a caller
     /// that steps many models sharing them along one velocity record computes it once per
     /// sample (see [`Self::step_split_with_curve`]).
+    ///
+    /// This is the decay at the reference conditions: with `temperature_dependence`'s
+    /// `q != 0` the curve moves with the oil temperature, and [`Self::stribeck_decay_under`]
+    /// gives it at a period's conditions.
     #[inline]
     pub fn stribeck_decay(&self, velocity: T) -> T {
-        let mut vs = self.params.stribeck_velocity();
+        self.stribeck_decay_scaled(velocity, T::one())
+    }
+
+    /// [`Self::stribeck_decay`] at conditions already evaluated ([`Self::under`]): `vs` scaled
+    /// by `temperature_dependence`'s `eta^-q` (the same, bit for bit, where that is 1).
+    #[inline]
+    pub fn stribeck_decay_under(&self, velocity: T, f: &UnderConditions<T>) -> T {
+        self.stribeck_decay_scaled(velocity, f.stribeck_velocity_scale)
+    }
+
+    /// The decay with the Stribeck velocity scaled by `vs_scale` (> 0).
+    #[inline(always)]
+    fn stribeck_decay_scaled(&self, velocity: T, vs_scale: T) -> T {
+        let mut vs = self.params.stribeck_velocity() * vs_scale;
         if let Some(a) = self.effects.asymmetry {
             let s = if velocity >= T::zero() {
                 T::one()
@@ -285,7 +308,7 @@ impl<T: ModelFloat> FrictionModel<T> {
     pub fn steady_state_force_under(&self, velocity: T, f: &UnderConditions<T>) -> T {
         let l = self.levels_in(velocity >= T::zero(), f, self.dwell_increase(T::zero()));
         let dir = super::params::direction(velocity);
-        self.stribeck_curve(velocity, &l) * dir
+        Self::curve_from_decay(&l, self.stribeck_decay_under(velocity, f)) * dir
             + self.viscous_force(velocity, &l)
             + self.offset_force()
     }
@@ -332,14 +355,13 @@ impl<T: ModelFloat> FrictionModel<T> {
         dt: T,
         stribeck_decay: Option<T>,
     ) -> CurveStep<T> {
-        let (forward, backward) = self.clock_and_levels(s, mean_velocity, &self.under(c), dt);
+        let f = self.under(c);
+        let (forward, backward) = self.clock_and_levels(s, mean_velocity, &f, dt);
         let (force, stribeck_level) = self.step_driven_at_levels(
             s,
-            mean_velocity,
-            mean_velocity,
-            velocity,
+            [mean_velocity, mean_velocity, velocity],
             dt,
-            stribeck_decay,
+            (stribeck_decay, f.stribeck_velocity_scale),
             forward,
             backward,
         );
@@ -383,11 +405,9 @@ impl<T: ModelFloat> FrictionModel<T> {
         let (forward, backward) = self.clock_and_levels(s, mean_velocity, f, dt);
         self.step_driven_at_levels(
             s,
-            drive,
-            mean_velocity,
-            velocity,
+            [drive, mean_velocity, velocity],
             dt,
-            None,
+            (None, f.stribeck_velocity_scale),
             forward,
             backward,
         )
@@ -474,13 +494,12 @@ impl<T: ModelFloat> FrictionModel<T> {
         stribeck_decay: Option<T>,
         levels: &ConstantLevels<T>,
     ) -> CurveStep<T> {
+        // constant levels: no temperature dependence, the Stribeck velocity unscaled
         let (force, stribeck_level) = self.step_driven_at_levels(
             s,
-            mean_velocity,
-            mean_velocity,
-            velocity,
+            [mean_velocity, mean_velocity, velocity],
             dt,
-            stribeck_decay,
+            (stribeck_decay, T::one()),
             levels.forward,
             levels.backward,
         );
@@ -494,18 +513,17 @@ impl<T: ModelFloat> FrictionModel<T> {
 
     /// The step once the dwell clock has moved and the levels of both directions are known
     /// ([`Self::clock_and_levels`]): the force \[N\] and the Stribeck level `g(v)` \[N\] of the
-    /// bristle step, the Stribeck decay at the mean velocity computed here or given (see
-    /// [`Self::step_split_with_curve`]).
+    /// bristle step, the Stribeck decay at the mean velocity given, or computed here with the
+    /// Stribeck velocity scaled by the conditions' `vs_scale` (see
+    /// [`Self::step_split_with_curve`]). `[drive, mean_velocity, velocity]` as
+    /// [`Self::step_driven`].
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
     fn step_driven_at_levels(
         &self,
         s: &mut FrictionState<T>,
-        drive: T,
-        mean_velocity: T,
-        velocity: T,
+        [drive, mean_velocity, velocity]: [T; 3],
         dt: T,
-        stribeck_decay: Option<T>,
+        (stribeck_decay, vs_scale): (Option<T>, T),
         forward: Levels<T>,
         backward: Levels<T>,
     ) -> (T, T) {
@@ -514,7 +532,7 @@ impl<T: ModelFloat> FrictionModel<T> {
         // a given decay outside [0, 1] (NaN included) breaks the contract: computed instead
         let decay = match stribeck_decay {
             Some(d) if (T::zero()..=T::one()).contains(&d) => d,
-            _ => self.stribeck_decay(mean_velocity),
+            _ => self.stribeck_decay_scaled(mean_velocity, vs_scale),
         };
         let g = Self::curve_from_decay(&l, decay);
         let sigma0 = self.params.bristle_stiffness();
@@ -851,6 +869,7 @@ mod tests {
                 viscous_per_kelvin: 0.02,
                 coulomb_per_kelvin: 0.004,
                 reference_temperature: 40.0,
+                stribeck_hersey_exponent: 0.6,
             }),
             stribeck_shape: Some(StribeckShape { exponent: 1.3 }),
             viscous_power: Some(ViscousPower {
@@ -965,6 +984,7 @@ mod tests {
             viscous_per_kelvin: 0.02,
             coulomb_per_kelvin: 0.01,
             reference_temperature: 40.0,
+            stribeck_hersey_exponent: 0.0,
         });
         let l = m.levels(
             0.01,
@@ -976,6 +996,72 @@ mod tests {
         );
         assert!((l.viscous - 48_900.0 * (-0.4f64).exp()).abs() < 1e-6);
         assert!((l.coulomb - 506.0 * 1.2).abs() < 1e-9);
+    }
+
+    /// `q = 0` is the law before it existed, bit for bit, at every temperature; `q != 0` takes
+    /// the curve at `v eta^q` (the Hersey number), for the decay, the steady state and the
+    /// step; a temperature that is not a number leaves the curve where it was.
+    #[test]
+    fn the_stribeck_curve_follows_the_viscosity_by_its_hersey_exponent() {
+        let law = |q: f64| TemperatureDependence {
+            viscous_per_kelvin: 0.02,
+            coulomb_per_kelvin: 0.003,
+            reference_temperature: 40.0,
+            stribeck_hersey_exponent: q,
+        };
+        let (mut fixed, mut moving, mut plain) = (base(), base(), base());
+        fixed.effects.temperature_dependence = Some(law(0.0));
+        moving.effects.temperature_dependence = Some(law(0.8));
+        plain.effects.stribeck_shape = Some(StribeckShape { exponent: 1.4 });
+        fixed.effects.stribeck_shape = plain.effects.stribeck_shape;
+        moving.effects.stribeck_shape = plain.effects.stribeck_shape;
+        let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
+        for k in 0..3000 {
+            let t = k as f64 * 1e-3;
+            let v = 0.02 * (3.0 * t).sin();
+            let temperature = 40.0 + 25.0 * (0.9 * t).sin();
+            let c = Conditions { temperature, ..REF };
+            let f = fixed.under(&c);
+            // q = 0: the curve at the reference, bit for bit (the decay and the step)
+            assert_eq!(
+                fixed.stribeck_decay_under(v, &f).to_bits(),
+                plain.stribeck_decay(v).to_bits()
+            );
+            let step = fixed.step_split_with_curve(&mut a, v, v, &c, 1e-3, None);
+            let given =
+                fixed.step_split_with_curve(&mut b, v, v, &c, 1e-3, Some(plain.stribeck_decay(v)));
+            assert_eq!(step, given, "step {k}");
+            assert_eq!(a, b, "step {k}");
+            // q = 0.8: the decay at v eta^q
+            let eta = (-0.02 * (temperature - 40.0)).exp();
+            let g = moving.under(&c);
+            let want = plain.stribeck_decay(v * eta.powf(0.8));
+            assert!(
+                (moving.stribeck_decay_under(v, &g) - want).abs() < 1e-12,
+                "step {k}"
+            );
+            if (temperature - 40.0).abs() > 5.0 && v.abs() > 1e-3 {
+                assert_ne!(moving.stribeck_decay_under(v, &g), plain.stribeck_decay(v));
+            }
+            // the steady state takes the same curve
+            let l = moving.levels(v, &c, 0.0);
+            let curve = l.coulomb + (l.static_ - l.coulomb) * want;
+            let viscous = l.viscous * v;
+            let steady = moving.steady_state_force(v, &c);
+            assert!(
+                (steady - (curve * crate::friction::params::direction(v) + viscous)).abs() < 1e-6,
+                "step {k}: {steady}"
+            );
+        }
+        // a bad temperature reading: the curve stays at the reference, nothing is NaN
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1e30] {
+            let c = Conditions {
+                temperature: bad,
+                ..REF
+            };
+            let d = moving.stribeck_decay_under(0.01, &moving.under(&c));
+            assert_eq!(d.to_bits(), plain.stribeck_decay(0.01).to_bits(), "{bad}");
+        }
     }
 
     #[test]

@@ -285,6 +285,7 @@ fn basis(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Basis {
         viscous: vec![0.0; n],
     };
     // levels that no condition moves are evaluated once, not at every sample
+    // (with them the Stribeck curve does not move either: no temperature dependence)
     let constant = fm
         .constant_levels()
         .map(|_| fm.levels_by_direction(&reference, 0.0));
@@ -292,10 +293,18 @@ fn basis(t: &Trial<'_>, shares: &[f64; ELEMENTS]) -> Basis {
         let mut el = [State::default(); ELEMENTS];
         for i in r.clone() {
             let v = p.v_step[i];
-            let (fw, bw): (Levels<f64>, Levels<f64>) = constant
-                .unwrap_or_else(|| fm.levels_by_direction(&p.conditions(i, &reference), 0.0));
+            let ((fw, bw), decay): ((Levels<f64>, Levels<f64>), f64) = match constant {
+                Some(l) => (l, fm.stribeck_decay(v)),
+                None => {
+                    let f = fm.under(&p.conditions(i, &reference));
+                    (
+                        fm.levels_by_direction_under(&f, 0.0),
+                        fm.stribeck_decay_under(v, &f),
+                    )
+                }
+            };
             let l = if v >= 0.0 { fw } else { bw };
-            let cap = (l.coulomb + (l.static_ - l.coulomb) * fm.stribeck_decay(v)).max(0.0);
+            let cap = (l.coulomb + (l.static_ - l.coulomb) * decay).max(0.0);
             let dir: i8 = if v > 0.0 {
                 1
             } else if v < 0.0 {

@@ -1336,10 +1336,15 @@ pub fn add_effect(
                 .as_ref()
                 .and_then(|t| t.first().copied())
                 .unwrap_or(0.0);
+            // a model that has the effect keeps its Stribeck exponent `q` (its shape: a
+            // polish moves `k_v` only)
             e.temperature_dependence = Some(fx::TemperatureDependence {
                 viscous_per_kelvin: nonlinear,
                 coulomb_per_kelvin: 0.0,
                 reference_temperature: r,
+                stribeck_hersey_exponent: e
+                    .temperature_dependence
+                    .map_or(0.0, |t| t.stribeck_hersey_exponent),
             })
         }
         K::StribeckShape => {
@@ -1392,17 +1397,28 @@ pub const DWELL_RENEWAL_GRID_M: [f64; 4] = [1e-5, 1e-4, 1e-3, 1e-2];
 
 /// The model with the second shape parameter of `effect` (see
 /// [`super::EffectInfo::shape`]) set to `value` (unchanged when the model lacks the effect or
-/// the effect has no second shape parameter): the dwell term's renewal distance \[m\].
+/// the effect has no second shape parameter): the dwell term's renewal distance \[m\], the
+/// temperature law's Hersey exponent `q` \[-\].
 pub fn with_shape(
     m: &AxisModel,
     effect: lugre_servo::friction::EffectKind,
     value: f64,
 ) -> AxisModel {
+    use lugre_servo::friction::EffectKind as K;
     let mut out = *m;
-    if effect == lugre_servo::friction::EffectKind::DwellStiction {
-        if let Some(d) = out.friction.effects.dwell_stiction.as_mut() {
-            d.renewal_distance = value;
+    let e = &mut out.friction.effects;
+    match effect {
+        K::DwellStiction => {
+            if let Some(d) = e.dwell_stiction.as_mut() {
+                d.renewal_distance = value;
+            }
         }
+        K::TemperatureDependence => {
+            if let Some(t) = e.temperature_dependence.as_mut() {
+                t.stribeck_hersey_exponent = value;
+            }
+        }
+        _ => {}
     }
     out
 }
@@ -1456,6 +1472,11 @@ pub fn shape_value(m: &AxisModel, effect: lugre_servo::friction::EffectKind) -> 
             .effects
             .dwell_stiction
             .map(|d| d.renewal_distance),
+        lugre_servo::friction::EffectKind::TemperatureDependence => m
+            .friction
+            .effects
+            .temperature_dependence
+            .map(|t| t.stribeck_hersey_exponent),
         _ => None,
     }
 }
@@ -1687,6 +1708,7 @@ mod chord_tests {
             viscous_per_kelvin: 0.01,
             coulomb_per_kelvin: -0.004,
             reference_temperature: 40.0,
+            stribeck_hersey_exponent: 0.7,
         });
         let p = record_with(&m, true);
         let decay = m.stribeck_decay(&p);
