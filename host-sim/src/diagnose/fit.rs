@@ -1397,28 +1397,17 @@ pub const DWELL_RENEWAL_GRID_M: [f64; 4] = [1e-5, 1e-4, 1e-3, 1e-2];
 
 /// The model with the second shape parameter of `effect` (see
 /// [`super::EffectInfo::shape`]) set to `value` (unchanged when the model lacks the effect or
-/// the effect has no second shape parameter): the dwell term's renewal distance \[m\], the
-/// temperature law's Hersey exponent `q` \[-\].
+/// the effect has no second shape parameter): the dwell term's renewal distance \[m\].
 pub fn with_shape(
     m: &AxisModel,
     effect: lugre_servo::friction::EffectKind,
     value: f64,
 ) -> AxisModel {
-    use lugre_servo::friction::EffectKind as K;
     let mut out = *m;
-    let e = &mut out.friction.effects;
-    match effect {
-        K::DwellStiction => {
-            if let Some(d) = e.dwell_stiction.as_mut() {
-                d.renewal_distance = value;
-            }
+    if effect == lugre_servo::friction::EffectKind::DwellStiction {
+        if let Some(d) = out.friction.effects.dwell_stiction.as_mut() {
+            d.renewal_distance = value;
         }
-        K::TemperatureDependence => {
-            if let Some(t) = e.temperature_dependence.as_mut() {
-                t.stribeck_hersey_exponent = value;
-            }
-        }
-        _ => {}
     }
     out
 }
@@ -1472,11 +1461,6 @@ pub fn shape_value(m: &AxisModel, effect: lugre_servo::friction::EffectKind) -> 
             .effects
             .dwell_stiction
             .map(|d| d.renewal_distance),
-        lugre_servo::friction::EffectKind::TemperatureDependence => m
-            .friction
-            .effects
-            .temperature_dependence
-            .map(|t| t.stribeck_hersey_exponent),
         _ => None,
     }
 }

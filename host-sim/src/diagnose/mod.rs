@@ -64,12 +64,12 @@ pub struct EffectInfo {
     pub linear: &'static [Param],
     /// Grid of its nonlinear parameter, its name and its "no effect" value.
     pub nonlinear: Option<(&'static str, &'static [f64], Option<f64>)>,
-    /// A second shape parameter ([`ShapeParam`]): the nonlinear one is searched afresh at
-    /// each of its grid's values (see [`fit::with_shape`]), and once more between them, at
-    /// the vertex of the parabola through the best value and its neighbours
-    /// ([`ShapeParam::vertex`]). All of that is done under each of the effect's rules
-    /// ([`fit::age_rules`]: the dwell's age at a new stick), and the best of them is kept.
-    pub shape: Option<ShapeParam>,
+    /// A second shape parameter, its name and grid: the nonlinear one is searched afresh at
+    /// each of its values (see [`fit::with_shape`]), and once more between them, at the
+    /// vertex in ln of the best value and its neighbours (`shape_vertex_ln`). All of that
+    /// is done under each of the effect's rules ([`fit::age_rules`]: the dwell's age at a
+    /// new stick), and the best of them is kept.
+    pub shape: Option<(&'static str, &'static [f64])>,
     /// Where the nonlinear parameter is a model order (the cosine terms of
     /// `position_dependence`): how many of its grid's orders are tried first, the rest only
     /// when the last of those is the best ([`fit::grid_min_extending`]). An order is penalised
@@ -81,57 +81,6 @@ pub struct EffectInfo {
     /// searched, and at the edge where it ends at an end of that range.
     pub stage_searched: Option<(&'static str, (f64, f64))>,
 }
-
-/// An effect's second shape parameter (see [`EffectInfo::shape`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShapeParam {
-    /// Its name, as the parameter file names it.
-    pub name: &'static str,
-    /// The values searched first, ascending.
-    pub grid: &'static [f64],
-    /// Whether it is a positive scale, searched between the grid's values in ln (a distance);
-    /// otherwise linearly (an exponent whose grid starts at 0).
-    pub log: bool,
-    /// Whether the grid's first value is a physical bound, not an edge of the search: the
-    /// data may choose it, and ending there says no more (an exponent of 0: the law without
-    /// the shape). The last value is always an edge.
-    pub floor_is_physical: bool,
-    /// How it is searched: `false`, the nonlinear parameter's grid afresh at each of its
-    /// values and at the vertex between them; `true`, that grid at its first value only, then
-    /// in turn the profile over the shape at that grid's best point (and at the vertex) and the
-    /// grid once more at the profile's best value, while that moves (a few rounds: a third of
-    /// the work or less).
-    pub profile_at_best: bool,
-}
-
-impl ShapeParam {
-    /// The vertex of the parabola through a profile's best point `(value, rss)` (one per
-    /// grid value) and its grid neighbours, in ln or linearly ([`Self::log`]), in the
-    /// parameter's units; `None` where the best is at an end of the grid or the parabola
-    /// does not open upwards.
-    pub fn vertex(&self, profile: &[(f64, f64)]) -> Option<f64> {
-        if self.log {
-            shape_vertex_ln(profile).map(f64::exp)
-        } else {
-            shape_vertex_linear(profile)
-        }
-    }
-
-    /// Whether `value` ended at an edge of the search (see [`Self::floor_is_physical`]).
-    pub fn on_edge(&self, value: f64) -> bool {
-        if self.floor_is_physical {
-            self.grid.last().is_some_and(|top| value >= *top)
-        } else {
-            on_edge(self.grid, value)
-        }
-    }
-}
-
-/// The Hersey exponents `q` the temperature candidate's Stribeck curve is searched at first
-/// (`vs eta^-q`, [`lugre_servo::friction::effects::TemperatureDependence`]): 0 (the curve
-/// fixed, the law before session 74) to 1.2, between them at the parabola's vertex. Not a
-/// grid that holds the independent generator's own 0.5.
-pub const HERSEY_EXPONENT_GRID: [f64; 4] = [0.0, 0.4, 0.8, 1.2];
 
 /// The eight candidate effects.
 pub const EFFECTS: [EffectInfo; 8] = [
@@ -194,19 +143,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
             &[-0.02, -0.01, 0.0, 0.005, 0.01, 0.015, 0.02, 0.025, 0.03, 0.04, 0.05],
             Some(0.0),
         )),
-        // the Stribeck curve a function of the Hersey number `eta v`: family B temperature
-        // records 34440..34449 (session 73, used) were within 1.2x of their floor in 1 of 10
-        // with the curve fixed, 6 of 10 with the best of q = 0, 0.5, 1
-        shape: Some(ShapeParam {
-            name: "stribeck_hersey_exponent",
-            grid: &HERSEY_EXPONENT_GRID,
-            log: false,
-            floor_is_physical: true,
-            // the grid of k_v at every q cost every record of the issue's axes 1.1 s more
-            // among the candidates (`diagnose_timing 1097 --axes issue`, median 6.70 s
-            // against 5.46 s, session 74)
-            profile_at_best: true,
-        }),
+        shape: None,
         orders_first: None,
         stage_searched: None,
     },
@@ -244,13 +181,7 @@ pub const EFFECTS: [EffectInfo; 8] = [
         meaning: "the breakaway force grows with time at rest (junction growth, lubricant squeezed out)",
         linear: &[Param::DwellIncrease],
         nonlinear: Some(("time_constant_s", &[0.1, 0.2, 0.5, 1.0, 2.0, 5.0], None)),
-        shape: Some(ShapeParam {
-            name: "renewal_distance_m",
-            grid: &fit::DWELL_RENEWAL_GRID_M,
-            log: true,
-            floor_is_physical: false,
-            profile_at_best: false,
-        }),
+        shape: Some(("renewal_distance_m", &fit::DWELL_RENEWAL_GRID_M)),
         orders_first: None,
         stage_searched: None,
     },
@@ -303,17 +234,6 @@ fn shape_vertex_ln(profile: &[(f64, f64)]) -> Option<f64> {
     let v = fit::parabola_vertex(at(ib - 1), at(ib), at(ib + 1))?;
     // the grid point itself was searched already
     ((v - at(ib).0).abs() > 1e-9).then_some(v)
-}
-
-/// [`shape_vertex_ln`] with the parabola taken in the parameter itself (a shape whose grid
-/// starts at 0).
-fn shape_vertex_linear(profile: &[(f64, f64)]) -> Option<f64> {
-    let ib = (0..profile.len()).min_by(|&a, &b| profile[a].1.total_cmp(&profile[b].1))?;
-    if ib == 0 || ib + 1 >= profile.len() {
-        return None;
-    }
-    let v = fit::parabola_vertex(profile[ib - 1], profile[ib], profile[ib + 1])?;
-    ((v - profile[ib].0).abs() > 1e-9).then_some(v)
 }
 
 /// What is known of an effect.
@@ -1517,50 +1437,6 @@ mod search_edge_tests {
             .map(|&v| (v, 1.0))
             .collect();
         assert_eq!(shape_vertex_ln(&flat), None);
-    }
-
-    /// The temperature law's Hersey exponent is searched linearly between its grid's values
-    /// (its grid starts at 0, where ln cannot go), and 0 is a value the data choose (the curve
-    /// fixed), not an edge; its top is.
-    #[test]
-    fn the_hersey_exponent_vertex_is_linear_and_only_its_top_is_an_edge() {
-        let shape = effect_info(EffectKind::TemperatureDependence)
-            .shape
-            .expect("the temperature law has a shape");
-        assert!(!shape.log && shape.floor_is_physical);
-        assert_eq!(shape.grid, &HERSEY_EXPONENT_GRID);
-        // rss = (q - 0.57)^2 + 1: the vertex at 0.57 exactly (a parabola in q itself)
-        let at = |q: f64| (q, (q - 0.57f64).powi(2) + 1.0);
-        let profile: Vec<(f64, f64)> = shape.grid.iter().map(|&q| at(q)).collect();
-        let q = shape.vertex(&profile).unwrap();
-        assert!((q - 0.57).abs() < 1e-12, "{q}");
-        // the best at 0: no vertex, and 0 not flagged
-        let at_zero: Vec<(f64, f64)> = shape.grid.iter().map(|&q| (q, 1.0 + q)).collect();
-        assert_eq!(shape.vertex(&at_zero), None);
-        let mut e = fx::Effects::none();
-        let law = |q: f64| fx::TemperatureDependence {
-            viscous_per_kelvin: 0.01,
-            coulomb_per_kelvin: 0.0,
-            reference_temperature: 40.0,
-            stribeck_hersey_exponent: q,
-        };
-        for (q, flagged) in [(0.0, false), (0.57, false), (1.2, true)] {
-            e.temperature_dependence = Some(law(q));
-            let edges = effect_search_edges(&model(e));
-            assert_eq!(
-                edges.iter().any(|x| x.name == "stribeck_hersey_exponent"),
-                flagged,
-                "{q}: {edges:?}"
-            );
-        }
-        // the renewal distance keeps its search in ln
-        let dwell = effect_info(EffectKind::DwellStiction).shape.unwrap();
-        let by_ln: Vec<(f64, f64)> = dwell
-            .grid
-            .iter()
-            .map(|&v| (v, (v.ln() - 3e-4f64.ln()).powi(2)))
-            .collect();
-        assert!((dwell.vertex(&by_ln).unwrap() / 3e-4 - 1.0).abs() < 1e-9);
     }
 
     /// A model with a viscous power law and a dwell term: its exponent, time constant \[s\]

@@ -523,15 +523,6 @@ fn rank_among(
     out
 }
 
-/// Rounds of a shape searched at the grid's best point ([`ShapeParam::profile_at_best`]): the
-/// shape's profile, then the nonlinear grid again at its best value, at most this many times.
-/// The second round's profile is taken at the grid's new best point, so the shape's interval
-/// is read where the fit ends. On family B temperature records 34440..34449 (used, session
-/// 74) it moved no record: 34443 and 34447 stay at 0.61 and 0.69 % where the grid at every
-/// value reached 0.44 and 0.42 % (the profile at one point misses a basin the full search
-/// finds), and the full search cost 22 % more time.
-const SHAPE_ROUNDS: usize = 2;
-
 /// A profile over an effect's second shape parameter: (value, residual sum of squares).
 type ShapeProfile = Vec<(f64, f64)>;
 
@@ -546,23 +537,25 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
     }
     let (fit, nonlinear_ci) = match info.nonlinear {
         Some((name, grid, null)) => {
-            // the nonlinear parameter's grid, at the second shape parameter's values, under
-            // each of the effect's rules (the dwell's age at a new stick)
+            // the nonlinear parameter's grid, at each value of the second shape parameter,
+            // under each of the effect's rules (the dwell's age at a new stick)
+            let shapes: Vec<Option<f64>> = info
+                .shape
+                .map_or(vec![None], |(_, g)| g.iter().copied().map(Some).collect());
             let mut best: Option<fit::GridResult<Fit>> = None;
             let objective = |x: f64, f: &Fit| grid_objective(info, x, f.rss, n_eff);
-            let fit_at = |rule: Option<DwellAge>, shape: Option<f64>, x: f64| {
-                let mut m = fit::add_effect(&current.fit.model, info.kind, p, x);
-                if let Some(v) = shape {
-                    m = fit::with_shape(&m, info.kind, v);
-                }
-                if let Some(age) = rule {
-                    m = fit::with_age_rule(&m, age);
-                }
-                let f = on.fitting.refit_quick(&m);
-                (grid_objective(info, x, f.rss, n_eff), f)
-            };
             let search_at = |rule: Option<DwellAge>, shape: Option<f64>| {
-                effect_grid_min(info, grid, |x| fit_at(rule, shape, x))
+                effect_grid_min(info, grid, |x| {
+                    let mut m = fit::add_effect(&current.fit.model, info.kind, p, x);
+                    if let Some(v) = shape {
+                        m = fit::with_shape(&m, info.kind, v);
+                    }
+                    if let Some(age) = rule {
+                        m = fit::with_age_rule(&m, age);
+                    }
+                    let f = on.fitting.refit_quick(&m);
+                    (grid_objective(info, x, f.rss, n_eff), f)
+                })
             };
             // the best fit over every rule and shape value, kept in the order searched
             let keep = |(x, f, profile): fit::GridResult<Fit>,
@@ -574,81 +567,41 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     *best = Some((x, f, profile));
                 }
             };
-            // One rule's searches (its grid results in the order a serial search keeps them,
-            // and its profile over the shape parameter). The rules are searched side by side,
-            // and so are a shape's grid values: the searches are independent (the dwell term:
-            // 2 rules x 4 renewal distances, then the vertex between them, each a grid of 6
-            // time constants), and run one after another they were the longest chain of the
-            // candidates' work. They are kept below in the order a serial search keeps them,
-            // so the best fit and every profile are the same bit for bit (the identity set's
-            // suite JSON unchanged; `diagnose_timing 1097 1098` paired ratio 0.978, session
-            // 68: within the machine's noise).
-            let one_rule = |rule: Option<DwellAge>| -> (Vec<fit::GridResult<Fit>>, ShapeProfile) {
-                let Some(shape) = info.shape else {
-                    return (vec![search_at(rule, None)], Vec::new());
-                };
-                if shape.profile_at_best {
-                    // the grid at the shape's first value; then, in turn, the shape's profile
-                    // at the grid's best point (its values and the vertex between them) and
-                    // the grid once more at the profile's best value, until the profile keeps
-                    // the value the grid was searched at
-                    let first = search_at(rule, shape.grid.first().copied());
-                    let (mut at, mut x, mut rss) = (shape.grid[0], first.0, first.1.rss);
-                    let mut results = vec![first];
-                    let mut profile: ShapeProfile = Vec::new();
-                    for _ in 0..SHAPE_ROUNDS {
-                        profile = shape
-                            .grid
-                            .par_iter()
-                            .map(|&v| match v == at {
-                                true => (v, rss),
-                                false => (v, fit_at(rule, Some(v), x).1.rss),
-                            })
-                            .collect();
-                        if let Some(v) = shape.vertex(&profile) {
-                            profile.push((v, fit_at(rule, Some(v), x).1.rss));
-                        }
-                        if !shape.grid.contains(&at) {
-                            profile.push((at, rss));
-                        }
-                        let next = (0..profile.len())
-                            .min_by(|&a, &b| profile[a].1.total_cmp(&profile[b].1))
-                            .map_or(at, |i| profile[i].0);
-                        if next == at {
-                            break;
-                        }
-                        let r = search_at(rule, Some(next));
-                        (at, x, rss) = (next, r.0, r.1.rss);
-                        results.push(r);
-                    }
-                    return (results, profile);
-                }
-                let on_grid: Vec<fit::GridResult<Fit>> = shape
-                    .grid
-                    .par_iter()
-                    .map(|&v| search_at(rule, Some(v)))
-                    .collect();
-                // the profile over the shape parameter, and between its grid's points the
-                // parabola through the best one and its neighbours, searched once more there
-                // (the renewal distance on its decade grid left calibration dwell record 1701
-                // at 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with
-                // RENEWAL_FINE, session 35)
-                let mut profile: ShapeProfile = (shape.grid.iter().zip(&on_grid))
-                    .map(|(v, (_, f, _))| (*v, f.rss))
-                    .collect();
-                let vertex = shape.vertex(&profile).map(|v| {
-                    let searched = search_at(rule, Some(v));
-                    profile.push((v, searched.1.rss));
-                    searched
-                });
-                (on_grid.into_iter().chain(vertex).collect(), profile)
-            };
+            // Every rule's grid at every shape value, searched side by side: the searches are
+            // independent (the dwell term: 2 rules x 4 renewal distances, then the vertex
+            // between them, each a grid of 6 time constants), and run one after another they
+            // were the longest chain of the candidates' work. They are kept below in the order
+            // a serial search keeps them, so the best fit and every profile are the same bit
+            // for bit (the identity set's suite JSON unchanged; `diagnose_timing 1097 1098`
+            // paired ratio 0.978, session 68: within the machine's noise).
             let rules = fit::age_rules(info.kind);
-            let searched: Vec<(Vec<fit::GridResult<Fit>>, ShapeProfile)> =
-                rules.par_iter().map(|&rule| one_rule(rule)).collect();
+            let on_grid: Vec<Vec<fit::GridResult<Fit>>> = rules
+                .par_iter()
+                .map(|&rule| shapes.par_iter().map(|&s| search_at(rule, s)).collect())
+                .collect();
+            // each rule's profile over the second shape parameter, and between its grid's
+            // points the parabola through the best one and its neighbours in ln, searched once
+            // more there (the renewal distance on its decade grid left calibration dwell record
+            // 1701 at 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with
+            // RENEWAL_FINE, session 35)
+            let between: Vec<(ShapeProfile, Option<fit::GridResult<Fit>>)> = rules
+                .par_iter()
+                .zip(&on_grid)
+                .map(|(&rule, results)| {
+                    let mut profile: ShapeProfile = (shapes.iter().zip(results))
+                        .filter_map(|(s, (_, f, _))| s.map(|v| (v, f.rss)))
+                        .collect();
+                    let vertex = shape_vertex_ln(&profile).map(f64::exp).map(|v| {
+                        let searched = search_at(rule, Some(v));
+                        profile.push((v, searched.1.rss));
+                        searched
+                    });
+                    (profile, vertex)
+                })
+                .collect();
             let mut shape_profiles: Vec<(Option<DwellAge>, ShapeProfile)> = Vec::new();
-            for (&rule, (results, profile)) in rules.iter().zip(searched) {
-                for result in results {
+            for ((&rule, results), (profile, vertex)) in rules.iter().zip(on_grid).zip(between) {
+                for result in results.into_iter().chain(vertex) {
                     keep(result, &mut best);
                 }
                 shape_profiles.push((rule, profile));
@@ -676,14 +629,16 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                 ci_high: hi,
                 at_search_edge: effect_on_edge(info, grid, x),
             });
-            if let (Some(shape), Some(v)) = (info.shape, fit::shape_value(&f.model, info.kind)) {
+            if let (Some((shape_name, shape_grid)), Some(v)) =
+                (info.shape, fit::shape_value(&f.model, info.kind))
+            {
                 let (lo, hi, _) = profile_interval(&shape_profile, n_eff, v);
                 cand.parameters.push(ParamReport {
-                    name: shape.name.into(),
+                    name: shape_name.into(),
                     value: v,
                     ci_low: lo,
                     ci_high: hi,
-                    at_search_edge: shape.on_edge(v),
+                    at_search_edge: on_edge(shape_grid, v),
                 });
             }
             (f, excludes_null)
@@ -762,7 +717,7 @@ fn judge(
         .into_iter()
         .filter(|q| {
             info.nonlinear.is_some_and(|(n, _, _)| n == q.name)
-                || info.shape.is_some_and(|s| s.name == q.name)
+                || info.shape.is_some_and(|(n, _)| n == q.name)
         })
         .collect();
     if let (Some(v), Some(q)) = (

@@ -494,7 +494,7 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
                 Some(k) => {
                     let info = super::effect_info(k);
                     info.nonlinear.is_some_and(|(n, _, _)| n == key)
-                        || info.shape.is_some_and(|s| s.name == key)
+                        || info.shape.is_some_and(|(n, _)| n == key)
                         || info.stage_searched.is_some_and(|(n, _)| n == key)
                 }
                 None => section == "lugre" && estimate.is_none(),

@@ -559,7 +559,7 @@ pub fn effect_search_edges(m: &AxisModel) -> Vec<SearchEdge> {
         let nonlinear = (info.nonlinear.zip(nonlinear_value(m, info.kind)))
             .map(|((name, grid, _), v)| (name, ends(grid), v, effect_on_edge(info, grid, v)));
         let shape = (info.shape.zip(fit::shape_value(m, info.kind)))
-            .map(|(s, v)| (s.name, ends(s.grid), v, s.on_edge(v)));
+            .map(|((name, grid), v)| (name, ends(grid), v, on_edge(grid, v)));
         let staged = (info.stage_searched.zip(stage_searched_value(m, info.kind)))
             .map(|((name, (lo, hi)), v)| (name, (lo, hi), v, v <= lo || v >= hi));
         out.extend(
