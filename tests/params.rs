@@ -80,6 +80,19 @@ fn cast_to_f32_keeps_values() {
     assert_eq!(p.coulomb_force(), 506.0f32);
 }
 
+/// The `[lugre]` and `[axis]` tables the effect-file tests share (levels near Table 2's, a
+/// contact a little softer), ending with a newline.
+const LUGRE_AND_AXIS: &str = "[lugre]
+bristle_stiffness_n_per_m = 2.97e9
+bristle_damping_n_s_per_m = 500.0
+viscous_coefficient_n_s_per_m = 48900.0
+coulomb_force_n = 505.7
+static_force_n = 631.9
+stribeck_velocity_m_per_s = 0.005
+[axis]
+moving_mass_kg = 200.0
+";
+
 /// The firmware's path for a parameter file (its build script: `ParamFile::read`, the model
 /// cast to f32, checked again): a position dependence of sixteen cosine terms and a load
 /// dependence of four survive it, and the f32 levels along the stroke and the pressure range
@@ -99,15 +112,7 @@ fn a_file_with_cosine_terms_reaches_f32_within_its_rounding() {
         })
         .collect();
     let text = format!(
-        "[lugre]\n\
-         bristle_stiffness_n_per_m = 2.97e9\n\
-         bristle_damping_n_s_per_m = 500.0\n\
-         viscous_coefficient_n_s_per_m = 48900.0\n\
-         coulomb_force_n = 505.7\n\
-         static_force_n = 631.9\n\
-         stribeck_velocity_m_per_s = 0.005\n\
-         [axis]\n\
-         moving_mass_kg = 200.0\n\
+        "{LUGRE_AND_AXIS}\
          [effects.position_dependence]\n\
          gradient_n_per_m = 40.0\n\
          center_m = 0.25\n\
@@ -185,15 +190,7 @@ fn the_hersey_exponent_round_trips_and_a_negative_one_is_refused() {
     use lugre_servo::params_file::ParamFile;
     let text = |q: Option<f64>| {
         format!(
-            "[lugre]\n\
-             bristle_stiffness_n_per_m = 2.97e9\n\
-             bristle_damping_n_s_per_m = 500.0\n\
-             viscous_coefficient_n_s_per_m = 48900.0\n\
-             coulomb_force_n = 505.7\n\
-             static_force_n = 631.9\n\
-             stribeck_velocity_m_per_s = 0.005\n\
-             [axis]\n\
-             moving_mass_kg = 200.0\n\
+            "{LUGRE_AND_AXIS}\
              [effects.temperature_dependence]\n\
              viscous_per_kelvin = 0.02\n\
              coulomb_per_kelvin = 0.002\n\

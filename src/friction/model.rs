@@ -250,6 +250,20 @@ impl<T: ModelFloat> FrictionModel<T> {
         self.stribeck_decay_scaled(velocity, f.stribeck_velocity_scale)
     }
 
+    /// [`Self::stribeck_decay`] at oil temperature `temperature` \[degC\] alone: the one
+    /// condition that moves the curve. A caller that needs the decay but not the levels
+    /// (an inverse model's decay along a record) forms only its factor, not every factor
+    /// [`Self::under`] evaluates. The same, bit for bit, as
+    /// [`Self::stribeck_decay_under`] at conditions with that temperature.
+    #[inline]
+    pub fn stribeck_decay_at(&self, velocity: T, temperature: T) -> T {
+        let scale = self
+            .effects
+            .temperature_dependence
+            .map_or(T::one(), |t| t.stribeck_velocity_scale(temperature));
+        self.stribeck_decay_scaled(velocity, scale)
+    }
+
     /// The decay with the Stribeck velocity scaled by `vs_scale` (> 0).
     #[inline(always)]
     fn stribeck_decay_scaled(&self, velocity: T, vs_scale: T) -> T {
@@ -359,9 +373,12 @@ impl<T: ModelFloat> FrictionModel<T> {
         let (forward, backward) = self.clock_and_levels(s, mean_velocity, &f, dt);
         let (force, stribeck_level) = self.step_driven_at_levels(
             s,
-            [mean_velocity, mean_velocity, velocity],
+            mean_velocity,
+            mean_velocity,
+            velocity,
             dt,
-            (stribeck_decay, f.stribeck_velocity_scale),
+            stribeck_decay,
+            f.stribeck_velocity_scale,
             forward,
             backward,
         );
@@ -405,9 +422,12 @@ impl<T: ModelFloat> FrictionModel<T> {
         let (forward, backward) = self.clock_and_levels(s, mean_velocity, f, dt);
         self.step_driven_at_levels(
             s,
-            [drive, mean_velocity, velocity],
+            drive,
+            mean_velocity,
+            velocity,
             dt,
-            (None, f.stribeck_velocity_scale),
+            None,
+            f.stribeck_velocity_scale,
             forward,
             backward,
         )
@@ -497,9 +517,12 @@ impl<T: ModelFloat> FrictionModel<T> {
         // constant levels: no temperature dependence, the Stribeck velocity unscaled
         let (force, stribeck_level) = self.step_driven_at_levels(
             s,
-            [mean_velocity, mean_velocity, velocity],
+            mean_velocity,
+            mean_velocity,
+            velocity,
             dt,
-            (stribeck_decay, T::one()),
+            stribeck_decay,
+            T::one(),
             levels.forward,
             levels.backward,
         );
@@ -515,15 +538,18 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// ([`Self::clock_and_levels`]): the force \[N\] and the Stribeck level `g(v)` \[N\] of the
     /// bristle step, the Stribeck decay at the mean velocity given, or computed here with the
     /// Stribeck velocity scaled by the conditions' `vs_scale` (see
-    /// [`Self::step_split_with_curve`]). `[drive, mean_velocity, velocity]` as
-    /// [`Self::step_driven`].
+    /// [`Self::step_split_with_curve`]).
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn step_driven_at_levels(
         &self,
         s: &mut FrictionState<T>,
-        [drive, mean_velocity, velocity]: [T; 3],
+        drive: T,
+        mean_velocity: T,
+        velocity: T,
         dt: T,
-        (stribeck_decay, vs_scale): (Option<T>, T),
+        stribeck_decay: Option<T>,
+        vs_scale: T,
         forward: Levels<T>,
         backward: Levels<T>,
     ) -> (T, T) {
@@ -1036,6 +1062,10 @@ mod tests {
             let eta = (-0.02 * (temperature - 40.0)).exp();
             let g = moving.under(&c);
             let want = plain.stribeck_decay(v * eta.powf(0.8));
+            assert_eq!(
+                moving.stribeck_decay_at(v, temperature).to_bits(),
+                moving.stribeck_decay_under(v, &g).to_bits()
+            );
             assert!(
                 (moving.stribeck_decay_under(v, &g) - want).abs() < 1e-12,
                 "step {k}"

@@ -561,35 +561,15 @@ impl AxisModel {
     /// `FrictionModel::stribeck_decay`): the same for every model with this one's `vs`,
     /// shape and temperature law, whatever its levels. A temperature dependence whose curve
     /// follows the viscosity (`q != 0`) takes it at each sample's oil temperature
-    /// (`FrictionModel::stribeck_decay_under`).
+    /// (`FrictionModel::stribeck_decay_at`: the reference temperature where the record has
+    /// none).
     pub fn stribeck_decay(&self, p: &Prepared) -> Vec<f64> {
-        let moves = self
-            .friction
-            .effects
-            .temperature_dependence
-            .is_some_and(|t| t.stribeck_hersey_exponent != 0.0);
-        if !moves {
-            return p
-                .v_step
-                .iter()
-                .map(|&v| self.friction.stribeck_decay(v))
-                .collect();
-        }
-        // the conditions' other effects do not touch the decay: left out, their factors
-        // (a power, cosine series) are not evaluated at every sample
-        use lugre_servo::friction::EffectKind as K;
-        let mut curve = self.friction;
-        curve.effects = curve
-            .effects
-            .without(K::LoadDependence)
-            .without(K::PositionDependence)
-            .without(K::DwellStiction);
-        let reference = curve.effects.reference_conditions();
-        (0..p.len())
-            .map(|i| {
-                let f = curve.under(&p.conditions(i, &reference));
-                curve.stribeck_decay_under(p.v_step[i], &f)
-            })
+        let reference = self.friction.effects.reference_conditions().temperature;
+        let temperature = |i: usize| p.temperature.as_ref().map_or(reference, |t| t[i]);
+        p.v_step
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| self.friction.stribeck_decay_at(v, temperature(i)))
             .collect()
     }
 
