@@ -10,7 +10,11 @@
 //! (and the effect-free ones); `--seeds EFFECT:SEED,...` runs exactly those records (`none`
 //! for effect-free; `EFFECT:A..B` for seeds A to B). `--unseen` runs every record no rule
 //! was tuned on: the held-out seeds and the never-run sets ([`NEVER_RUN`]), with a line per
-//! set. `--unweighted` scores every moving sample alike (`Options::unweighted`,
+//! set. `--force-skew S` reads the force of the force-actuated records `S` samples later than
+//! logged (`Protocol::force_skew_samples`; default 0, as logged; the generator logs beside each
+//! position the force held over the period before it, +0.5, and a hydraulic record's
+//! pressures with the position). `--unweighted` scores every moving
+//! sample alike (`Options::unweighted`,
 //! the rule until session 23); `--leave-out-unresolved FLOOR` runs the experiment of
 //! `Options::leave_out_unresolved`. `--encoder-um R`, `--noise-x K` and `--log-hz F` measure
 //! every record through other sensors (encoder resolution R um instead of 1; force and
@@ -615,6 +619,19 @@ fn pct(k: usize, n: usize) -> f64 {
 }
 
 /// `--leave-out-unresolved FLOOR`: the experiment of `Options::leave_out_unresolved`.
+/// `--force-skew S`: the force read `S` samples later than logged
+/// (`Protocol::force_skew_samples`; without it 0, as logged).
+fn force_skew() -> f64 {
+    let args: Vec<String> = std::env::args().collect();
+    args.iter()
+        .position(|a| a == "--force-skew")
+        .map_or(0.0, |i| {
+            args.get(i + 1)
+                .and_then(|s| s.parse().ok())
+                .expect("--force-skew SAMPLES (e.g. 0.5)")
+        })
+}
+
 fn leave_out_unresolved() -> Option<f64> {
     let args: Vec<String> = std::env::args().collect();
     let i = args.iter().position(|a| a == "--leave-out-unresolved")?;
@@ -685,6 +702,16 @@ fn run(
         ignore_breakaway: std::env::args().any(|a| a == "--no-breakaway"),
         leave_out_unresolved: leave_out_unresolved(),
         unweighted: std::env::args().any(|a| a == "--unweighted"),
+        protocol: host_sim::diagnose::inverse::Protocol {
+            // the generator's hydraulic records read the force from pressures sampled with the
+            // position: no skew to undo there
+            force_skew_samples: if axis.actuator == generators::axis::Actuator::Force {
+                force_skew()
+            } else {
+                0.0
+            },
+            ..Default::default()
+        },
         ..Default::default()
     };
     let d = match diagnose::diagnose(&rec, &name, &opts) {

@@ -274,6 +274,8 @@ pub fn dynamic_from_record(rec: &Record, mass: f64, name: &str) -> Result<IdentD
         parallel_cutoff_hz: 100.0,
         // identification compares positions at the counts' edges instead
         reference_count_m: None,
+        // the dynamic stage compares positions, not forces
+        force_skew_samples: 0.0,
     };
     let uniform = crate::timing::uniform(rec, name)?;
     let longest = uniform

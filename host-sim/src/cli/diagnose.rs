@@ -50,6 +50,25 @@ pub struct Args {
     /// gives the noise floor.
     #[arg(long)]
     truth: Option<PathBuf>,
+    /// Read the force this many samples later than logged, to line it up with the motion
+    /// (-2..2; default 0, as logged): +0.5 for a logger that writes beside each position the
+    /// force held over the period before it, -0.5 for one that writes the force just
+    /// commanded for the period after it. The record does not tell it reliably; the logger's
+    /// documentation does.
+    #[arg(long, default_value_t = 0.0, value_parser = force_skew, allow_hyphen_values = true)]
+    force_skew: f64,
+}
+
+/// `--force-skew`: a number of samples within `-2..=2`.
+fn force_skew(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number of samples"))?;
+    if v.is_finite() && v.abs() <= 2.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s} samples is outside -2..2"))
+    }
 }
 
 /// The scripting contract of `--json`.
@@ -163,6 +182,10 @@ pub fn run(a: &Args) -> Result<()> {
         auto: if a.auto { 3 } else { 0 },
         truth,
         unweighted: a.unweighted,
+        protocol: diagnose::inverse::Protocol {
+            force_skew_samples: a.force_skew,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let wall = std::time::Instant::now();
