@@ -14,8 +14,7 @@
 //! logged (`Protocol::force_skew_samples`; default 0, as logged; the generator logs beside each
 //! position the force held over the period before it, +0.5, and a hydraulic record's
 //! pressures with the position). `--unweighted` scores every moving
-//! sample alike (`Options::unweighted`,
-//! the rule until session 23); `--leave-out-unresolved FLOOR` runs the experiment of
+//! sample alike (`Options::unweighted`, the rule until session 23); `--leave-out-unresolved FLOOR` runs the experiment of
 //! `Options::leave_out_unresolved`. `--encoder-um R`, `--noise-x K` and `--log-hz F` measure
 //! every record through other sensors (encoder resolution R um instead of 1; force and
 //! pressure noise K times the default; a logger keeping every (1000/F)-th sample of the 1 kHz
@@ -618,7 +617,6 @@ fn pct(k: usize, n: usize) -> f64 {
     100.0 * k as f64 / n.max(1) as f64
 }
 
-/// `--leave-out-unresolved FLOOR`: the experiment of `Options::leave_out_unresolved`.
 /// `--force-skew S`: the force read `S` samples later than logged
 /// (`Protocol::force_skew_samples`; without it 0, as logged).
 fn force_skew() -> f64 {
@@ -632,6 +630,7 @@ fn force_skew() -> f64 {
         })
 }
 
+/// `--leave-out-unresolved FLOOR`: the experiment of `Options::leave_out_unresolved`.
 fn leave_out_unresolved() -> Option<f64> {
     let args: Vec<String> = std::env::args().collect();
     let i = args.iter().position(|a| a == "--leave-out-unresolved")?;

@@ -20,7 +20,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_of, seed_list, Axes, ContactKind, Family, Sensors};
+use generators::axis::{record_on_axes, seed_list, Axes};
 use host_sim::diagnose::{self, fit, Options};
 use host_sim::record::Record;
 use rayon::prelude::*;
@@ -49,14 +49,7 @@ fn main() {
 /// One record's row; `blocks`: stretches the record is cut into (alternately held out).
 fn one(effect: Option<&'static str>, seed: u64, axes: Axes, blocks: usize) -> String {
     let hidden = effect.unwrap_or("none");
-    let (text, _axis) = random_record_of(
-        effect,
-        seed,
-        Sensors::default(),
-        ContactKind::LuGre,
-        Family::A,
-        axes,
-    );
+    let (text, _axis) = record_on_axes(effect, seed, axes);
     let name = format!("{hidden}-{seed}.csv");
     let rec = Record::parse(&text, Path::new(&name)).expect("record");
     let d = diagnose::diagnose(&rec, &name, &Options::default()).expect("diagnosis");

@@ -13,7 +13,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_of, truth_error_pct, Axes, ContactKind, Family, Sensors};
+use generators::axis::{record_on_axes, truth_error_pct, Axes};
 use host_sim::diagnose::inverse::{Prepared, Protocol};
 use host_sim::record::Record;
 use rayon::prelude::*;
@@ -38,14 +38,7 @@ fn main() {
     let rows: Vec<String> = jobs
         .par_iter()
         .map(|&(effect, seed)| {
-            let (text, axis) = random_record_of(
-                effect,
-                seed,
-                Sensors::default(),
-                ContactKind::LuGre,
-                Family::A,
-                axes,
-            );
+            let (text, axis) = record_on_axes(effect, seed, axes);
             let rec = Record::parse(&text, Path::new("probe.csv")).expect("record");
             let p = Prepared::new(&rec, "probe.csv", Protocol::default()).expect("prepared");
             let truth = |s: f64| truth_error_pct(&axis, &p.with_force_read_later(s));

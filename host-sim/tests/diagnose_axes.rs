@@ -10,8 +10,8 @@
 mod generators;
 
 use generators::axis::{
-    random_record, random_record_of, random_record_with, truth_error_pct, Actuator, Axes, Axis,
-    ContactKind, Family, Sensors,
+    random_record, random_record_with, record_on_axes, truth_error_pct, Actuator, Axes, Axis,
+    Sensors,
 };
 use host_sim::diagnose::inverse::{Prepared, Protocol};
 use host_sim::diagnose::{self, Diagnosis, Options};
@@ -62,8 +62,6 @@ fn report(d: &Diagnosis) -> String {
         .join("; ")
 }
 
-/// Effect-free records (a hydraulic and a force-actuated axis from the calibration seeds): the
-/// plain model is structurally right, so no candidate may be called significant.
 /// The generator's force-actuated records log beside each position the force held over the
 /// period before it: read half a sample later (`Protocol::force_skew_samples`), its true model
 /// along the measured motion errs far less (effect-free record 3183 of the issue's axes, where
@@ -72,14 +70,7 @@ fn report(d: &Diagnosis) -> String {
 #[test]
 fn a_force_logged_half_a_sample_late_is_lined_up_by_reading_it_later() {
     let truth_at = |effect: Option<&'static str>, seed: u64, actuator: Actuator| {
-        let (text, axis) = random_record_of(
-            effect,
-            seed,
-            Sensors::default(),
-            ContactKind::LuGre,
-            Family::A,
-            Axes::Issue,
-        );
+        let (text, axis) = record_on_axes(effect, seed, Axes::Issue);
         assert_eq!(axis.actuator, actuator);
         let rec = Record::parse(&text, Path::new("r.csv")).unwrap();
         let p = Prepared::new(&rec, "r.csv", Protocol::default()).unwrap();
@@ -91,6 +82,8 @@ fn a_force_logged_half_a_sample_late_is_lined_up_by_reading_it_later() {
     assert!(later > 1.5 * logged, "{later:.2} % against {logged:.2} %");
 }
 
+/// Effect-free records (a hydraulic and a force-actuated axis from the calibration seeds): the
+/// plain model is structurally right, so no candidate may be called significant.
 #[test]
 fn no_effect_is_claimed_on_effect_free_axes() {
     for seed in [103, 124] {

@@ -171,7 +171,6 @@ pub struct Prepared {
     /// The force reading's white noise, rms, measured on the record
     /// ([`crate::signal::force_noise_fourth_difference`]) \[N\].
     pub force_noise_n: f64,
-    /// How much later than logged the force is read, to line up with the motion
     /// How much later than logged the force is read \[samples\]
     /// ([`Protocol::force_skew_samples`]).
     pub force_skew_samples: f64,
@@ -182,6 +181,39 @@ pub struct Prepared {
     /// ([`LowPass::noise_gain`]) \[N\]: the scale of the force a candidate effect explains
     /// (`diagnose::Candidate::explained_rms_n`).
     pub force_noise_in_band_n: f64,
+}
+
+/// The force as [`Prepared`] reads it: the logged force read `skew` samples later
+/// ([`read_later`]), through the parallel filter and through the position's, and the norms.
+struct ReadForce {
+    force: Vec<f64>,
+    force_motion_band: Vec<f64>,
+    force_norm: f64,
+    force_norm_all: f64,
+}
+
+impl ReadForce {
+    fn new(
+        logged: &[f64],
+        skew: f64,
+        [parallel, pos]: [&LowPass; 2],
+        segments: &[std::ops::Range<usize>],
+        weight: &[f64],
+    ) -> Self {
+        let aligned = read_later(logged, segments, skew);
+        let by = |f: &LowPass| {
+            segmented(f, segments, &[&aligned])
+                .pop()
+                .unwrap_or_default()
+        };
+        let (force, force_motion_band) = (by(parallel), by(pos));
+        Self {
+            force_norm: scored_norm(&force, weight),
+            force_norm_all: force.iter().map(|f| f * f).sum::<f64>().sqrt(),
+            force,
+            force_motion_band,
+        }
+    }
 }
 
 /// Norm of a force column over the scored samples (`sqrt(sum w f^2)`) \[N\].
@@ -372,11 +404,18 @@ impl Prepared {
         }
         // the force lined up with the motion (0: as logged)
         let force_skew_samples = protocol.force_skew_samples;
-        let aligned = read_later(&rec.force, &segments, force_skew_samples);
-        let force = by_segment(&parallel, &aligned);
-        let force_motion_band = by_segment(&pos, &aligned);
-        let force_norm = scored_norm(&force, &weight);
-        let force_norm_all = force.iter().map(|f| f * f).sum::<f64>().sqrt();
+        let ReadForce {
+            force,
+            force_motion_band,
+            force_norm,
+            force_norm_all,
+        } = ReadForce::new(
+            &rec.force,
+            force_skew_samples,
+            [&parallel, &pos],
+            &segments,
+            &weight,
+        );
         if force_norm <= 0.0 {
             return Err(Error::data(name, DataProblem::ZeroForce));
         }
@@ -444,18 +483,19 @@ impl Prepared {
     /// The record with its force read `skew` samples later than logged ([`read_later`]; the
     /// same motion, weights and notes): the force, its motion-band twin and their norms.
     pub fn with_force_read_later(&self, skew: f64) -> Self {
-        let aligned = read_later(&self.force_logged, &self.segments, skew);
         let pos = LowPass::butterworth4(self.position_cutoff_hz, 1.0 / self.dt);
-        let mut both = segmented(&self.parallel, &self.segments, &[&aligned]);
-        let force = both.pop().unwrap_or_default();
-        let force_motion_band = segmented(&pos, &self.segments, &[&aligned])
-            .pop()
-            .unwrap_or_default();
+        let read = ReadForce::new(
+            &self.force_logged,
+            skew,
+            [&self.parallel, &pos],
+            &self.segments,
+            &self.weight,
+        );
         Self {
-            force_norm: scored_norm(&force, &self.weight),
-            force_norm_all: force.iter().map(|f| f * f).sum::<f64>().sqrt(),
-            force,
-            force_motion_band,
+            force: read.force,
+            force_motion_band: read.force_motion_band,
+            force_norm: read.force_norm,
+            force_norm_all: read.force_norm_all,
             force_skew_samples: skew,
             ..self.clone()
         }

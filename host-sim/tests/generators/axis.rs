@@ -1510,17 +1510,23 @@ pub fn random_record_on(
     random_record_of(effect, seed, sensors, contact, Family::A, Axes::Wide)
 }
 
-/// A family-A dwell-stiction record through the default sensors on a LuGre contact, on the axes
-/// `axes` draws (the dwell studies' and tests' record).
-pub fn dwell_record(seed: u64, axes: Axes) -> (String, Axis) {
+/// A family-A record through the default sensors on a LuGre contact, on the axes `axes` draws
+/// ([`random_record_of`] with every other choice at its default).
+pub fn record_on_axes(effect: Option<&'static str>, seed: u64, axes: Axes) -> (String, Axis) {
     random_record_of(
-        Some("dwell_stiction"),
+        effect,
         seed,
         Sensors::default(),
         ContactKind::LuGre,
         Family::A,
         axes,
     )
+}
+
+/// A family-A dwell-stiction record through the default sensors on a LuGre contact, on the axes
+/// `axes` draws (the dwell studies' and tests' record).
+pub fn dwell_record(seed: u64, axes: Axes) -> (String, Axis) {
+    record_on_axes(Some("dwell_stiction"), seed, axes)
 }
 
 /// [`random_record_on`] with the hidden effect's shape drawn from `family` ([`Family::B`]:
