@@ -82,42 +82,6 @@ fn a_force_logged_half_a_sample_late_is_lined_up_by_reading_it_later() {
     assert!(later > 1.5 * logged, "{later:.2} % against {logged:.2} %");
 }
 
-/// A soft, well-damped contact (the issue's axes: sigma0 5e6..5e7 N/m, sigma1 0.2..1.0 of
-/// `sqrt(sigma0 M)`) has its bristle damping fitted where the record puts it. Until session 76
-/// the fit held sigma1 under `3 F_max / v_max` as well as five times critical damping; on
-/// effect-free record 3126 that held it at half the truth's, and the baseline erred 0.78 %
-/// against a floor of 0.36 % (the force read half a sample later, as the generator logs it).
-#[test]
-fn a_well_damped_bristle_is_fitted_where_the_record_puts_it() {
-    let (text, axis) = record_on_axes(None, 3126, Axes::Issue);
-    assert_eq!(axis.actuator, Actuator::Force);
-    let rec = Record::parse(&text, Path::new("r.csv")).unwrap();
-    let opts = Options {
-        skip_final_ranking: true,
-        protocol: Protocol {
-            force_skew_samples: 0.5,
-            ..Protocol::default()
-        },
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "r.csv", &opts).unwrap();
-    let base = &d.stages[0].fit;
-    let sigma1 = base.model.friction.params.bristle_damping();
-    let floor = truth_error_pct(&axis, &d.prepared);
-    let ratio = sigma1 / axis.sigma1;
-    assert!(
-        (0.75..1.33).contains(&ratio),
-        "sigma1 {sigma1:.3e} against the truth's {:.3e} N s/m",
-        axis.sigma1
-    );
-    assert!(base.at_bound.is_empty(), "{:?}", base.at_bound);
-    assert!(
-        base.rel_err_pct <= 1.05 * floor,
-        "{:.2} % against the floor's {floor:.2} %",
-        base.rel_err_pct
-    );
-}
-
 /// Effect-free records (a hydraulic and a force-actuated axis from the calibration seeds): the
 /// plain model is structurally right, so no candidate may be called significant.
 #[test]

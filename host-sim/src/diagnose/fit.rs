@@ -491,12 +491,9 @@ pub fn chi_square_95(k: usize) -> f64 {
 /// - Coulomb level `Fc` in `[0, 3 F_max]` and `Fs = Fc + hump <= 3 F_max`, `F_max` the largest
 ///   measured force: friction cannot exceed several times the force that moved the axis;
 /// - viscous `sigma2 >= 0` with `sigma2 v_max <= 3 F_max`;
-/// - bristle damping `sigma1 >= 0`: with a mass, `sigma1 <= 5 sqrt(sigma0 M)` (five times
-///   critical damping of the bristle mode); without one, `sigma1 v_max <= 3 F_max`. The
-///   second is no bound on a damped contact: `dz/dt ~ v` only in pre-sliding, at speeds far
-///   below `v_max`, and while sliding `dz/dt ~ 0`. Applied with a mass too (until session
-///   76) it held sigma1 at half the truth's on 7 of 12 soft, well-damped contacts
-///   (`fit_probe 3120 12 issue`);
+/// - bristle damping `sigma1 >= 0`, with `sigma1 v_max <= 3 F_max` (in pre-sliding `dz/dt ~ v`)
+///   and, with a mass, `sigma1 <= 5 sqrt(sigma0 M)` (five times critical damping of the bristle
+///   mode);
 /// - asymmetry ratios in `[-0.95, 0.95]`; an offset within `+-3 F_max`.
 #[derive(Clone, Copy, Debug)]
 pub struct Bounds {
@@ -514,7 +511,7 @@ impl Bounds {
         let mass = fixed_mass.unwrap_or(m.mass_kg);
         let critical = 5.0 * (m.friction.params.bristle_stiffness() * mass.max(0.0)).sqrt();
         let damping = if critical > 0.0 {
-            critical
+            (force / v_max).min(critical)
         } else {
             force / v_max
         };
