@@ -617,19 +617,6 @@ fn pct(k: usize, n: usize) -> f64 {
     100.0 * k as f64 / n.max(1) as f64
 }
 
-/// `--force-skew S`: the force read `S` samples later than logged
-/// (`Protocol::force_skew_samples`; without it 0, as logged).
-fn force_skew() -> f64 {
-    let args: Vec<String> = std::env::args().collect();
-    args.iter()
-        .position(|a| a == "--force-skew")
-        .map_or(0.0, |i| {
-            args.get(i + 1)
-                .and_then(|s| s.parse().ok())
-                .expect("--force-skew SAMPLES (e.g. 0.5)")
-        })
-}
-
 /// `--leave-out-unresolved FLOOR`: the experiment of `Options::leave_out_unresolved`.
 fn leave_out_unresolved() -> Option<f64> {
     let args: Vec<String> = std::env::args().collect();
@@ -705,7 +692,7 @@ fn run(
             // the generator's hydraulic records read the force from pressures sampled with the
             // position: no skew to undo there
             force_skew_samples: if axis.actuator == generators::axis::Actuator::Force {
-                force_skew()
+                generators::axis::force_skew_from_args(&std::env::args().collect::<Vec<_>>())
             } else {
                 0.0
             },

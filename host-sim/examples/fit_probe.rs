@@ -6,9 +6,10 @@
 //! the diagnosis's baseline, and the whole search again from that baseline (a local optimum
 //! stays); then the baseline's parameters against the truth's, and whether its bristle
 //! damping ended on its bound (`fit::Bounds`). Session 76 found the baseline held at half
-//! the truth's sigma1 by a cap of `3 F_max / v_max` on 7 of 12 soft, well-damped contacts.
+//! the truth's sigma1 by a cap of `3 F_max / v_max` on 7 of 12 soft, well-damped contacts
+//! (`fit_probe 3120 12 --axes issue --force-skew 0.5`).
 //!
-//! `cargo run --release -p host-sim --example fit_probe -- FIRST_SEED COUNT [issue] [--force-skew S]`
+//! `cargo run --release -p host-sim --example fit_probe -- FIRST_SEED COUNT [--axes issue] [--force-skew S]`
 //!
 //! Errors in % (scored like any model, weighted); parameter ratios fitted / true.
 
@@ -20,7 +21,7 @@ use host_sim::diagnose::fit::{self, Fitting};
 use host_sim::diagnose::inverse::{AxisModel, Protocol};
 use host_sim::diagnose::{self, Options, Search};
 use host_sim::record::Record;
-use lugre_servo::friction::{FrictionModel, LugreParams};
+use lugre_servo::friction::FrictionModel;
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -28,16 +29,8 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let first: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(3120);
     let count: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5);
-    let axes = if args.iter().any(|a| a == "issue") {
-        Axes::Issue
-    } else {
-        Axes::Wide
-    };
-    let skew: f64 = args
-        .iter()
-        .position(|a| a == "--force-skew")
-        .and_then(|i| args.get(i + 1))
-        .map_or(0.0, |s| s.parse().expect("a skew in samples"));
+    let axes = Axes::from_args(&args);
+    let skew = generators::axis::force_skew_from_args(&args);
     let rows: Vec<String> = (first..first + count)
         .collect::<Vec<_>>()
         .par_iter()
@@ -69,17 +62,7 @@ fn probe(seed: u64, axes: Axes, skew: f64) -> String {
     let floor = truth_error_pct(&axis, p);
     let truth = AxisModel {
         mass_kg: axis.mass_kg,
-        friction: FrictionModel::plain(
-            LugreParams::new(
-                axis.sigma0,
-                axis.sigma1,
-                axis.sigma2,
-                axis.coulomb_n,
-                axis.static_n,
-                axis.stribeck_m_per_s,
-            )
-            .expect("the truth is physical"),
-        ),
+        friction: FrictionModel::plain(axis.lugre_params()),
     };
     let ours_at_truth = p.rel_err_pct(&truth.predict(p));
     let on = Fitting {

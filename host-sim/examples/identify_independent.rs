@@ -22,7 +22,6 @@ use host_sim::experiments;
 use host_sim::identify::{self, Algorithm, IdentData};
 use host_sim::record::Record;
 use host_sim::stats::median;
-use lugre_servo::friction::LugreParams;
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -62,15 +61,7 @@ struct Outcome {
 
 fn run(seed: u64) -> Outcome {
     let axis = Axis::random(None, seed);
-    let truth = LugreParams::new(
-        axis.sigma0,
-        axis.sigma1,
-        axis.sigma2,
-        axis.coulomb_n,
-        axis.static_n,
-        axis.stribeck_m_per_s,
-    )
-    .expect("generator draws physical parameters");
+    let truth = axis.lugre_params();
     let travel = axis.static_n / axis.sigma0;
     let (sweep, _) = record_along(&axis, seed * 31 + 1, &sweep_reference(axis.stroke_m));
     let (dynamic, _) = record_along(

@@ -761,6 +761,21 @@ impl Axis {
     }
 
     /// The contact at rest, unloaded.
+    /// The six LuGre parameters of the contact without any effect, as the core's validated set
+    /// (the truth an identification or a fit is held against).
+    #[allow(dead_code)]
+    pub fn lugre_params(&self) -> lugre_servo::friction::LugreParams<f64> {
+        lugre_servo::friction::LugreParams::new(
+            self.sigma0,
+            self.sigma1,
+            self.sigma2,
+            self.coulomb_n,
+            self.static_n,
+            self.stribeck_m_per_s,
+        )
+        .expect("the generator draws physical parameters")
+    }
+
     pub fn contact_state(&self) -> ContactState {
         ContactState {
             z: 0.0,
@@ -1154,6 +1169,20 @@ pub fn truth_force(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> Ve
 /// The error [%] of [`truth_force`], scored like any model: the noise floor.
 pub fn truth_error_pct(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> f64 {
     p.rel_err_pct(&truth_force(axis, p))
+}
+
+/// `--force-skew S` among `args`: the force read `S` samples later than logged
+/// (`Protocol::force_skew_samples`; without it 0, as logged); a value that is not a number is
+/// a panic that says what is expected.
+#[allow(dead_code)]
+pub fn force_skew_from_args(args: &[String]) -> f64 {
+    args.iter()
+        .position(|a| a == "--force-skew")
+        .map_or(0.0, |i| {
+            args.get(i + 1)
+                .and_then(|s| s.parse().ok())
+                .expect("--force-skew SAMPLES (e.g. 0.5)")
+        })
 }
 
 /// Reference position at 1 kHz \[m\]: the random schedule of moves, sinusoids and dwells.
