@@ -698,6 +698,8 @@ fn run(
             },
             ..Default::default()
         },
+        // a skew given is read as given; without it the diagnosis chooses the reading
+        keep_force_reading: std::env::args().any(|a| a == "--force-skew"),
         ..Default::default()
     };
     let d = match diagnose::diagnose(&rec, &name, &opts) {

@@ -1282,3 +1282,64 @@ fn family_b_draws_other_laws(which: &[usize]) {
         which.len()
     );
 }
+
+/// The force read half a sample off the log where the baseline says so
+/// (`diagnose::choose_force_reading`). The generator's force-actuated records log beside each
+/// position the force of the period before it; on effect-free record 3353 (wide axes) read as
+/// logged a viscous power is significant, which read half a sample later is gone, and the
+/// diagnosis reads it so unasked and says so. A hydraulic record, whose force comes from
+/// pressures sampled with the position (3333: read +0.5, the baseline errs 0.91x), is read as
+/// logged. A skew the user gives is read as given.
+#[test]
+fn a_force_logged_half_a_sample_late_is_read_so_and_a_pressure_force_as_logged() {
+    let run = |seed: u64, keep_force_reading: bool| {
+        let (text, axis) = random_record(None, seed);
+        let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+        let opts = Options {
+            skip_final_ranking: true,
+            keep_force_reading,
+            ..Default::default()
+        };
+        (diagnose::diagnose(&rec, "axis.csv", &opts).unwrap(), axis)
+    };
+    let (chosen, axis) = run(3353, false);
+    assert_eq!(axis.actuator, Actuator::Force);
+    assert_eq!(
+        chosen.prepared.force_skew_samples,
+        0.5,
+        "{}",
+        report(&chosen)
+    );
+    assert!(
+        chosen
+            .prepared
+            .notes
+            .iter()
+            .any(|n| n.contains("off the log")),
+        "{:?}",
+        chosen.prepared.notes
+    );
+    assert_eq!(
+        first_significant(&chosen.stages[0].candidates),
+        None,
+        "{}",
+        report(&chosen)
+    );
+    let (as_logged, _) = run(3353, true);
+    assert_eq!(as_logged.prepared.force_skew_samples, 0.0);
+    assert_eq!(
+        first_significant(&as_logged.stages[0].candidates),
+        Some("viscous_power"),
+        "{}",
+        report(&as_logged)
+    );
+    assert!(chosen.stages[0].fit.rel_err_pct < 0.75 * as_logged.stages[0].fit.rel_err_pct);
+    let (hydraulic, axis) = run(3333, false);
+    assert_eq!(axis.actuator, Actuator::Hydraulic);
+    assert_eq!(
+        hydraulic.prepared.force_skew_samples,
+        0.0,
+        "{}",
+        report(&hydraulic)
+    );
+}

@@ -51,12 +51,13 @@ pub struct Args {
     #[arg(long)]
     truth: Option<PathBuf>,
     /// Read the force this many samples later than logged, to line it up with the motion
-    /// (-2..2; default 0, as logged): +0.5 for a logger that writes beside each position the
-    /// force held over the period before it, -0.5 for one that writes the force just
-    /// commanded for the period after it. The record does not tell it reliably; the logger's
-    /// documentation does.
-    #[arg(long, default_value_t = 0.0, value_parser = force_skew, allow_hyphen_values = true)]
-    force_skew: f64,
+    /// (-2..2): +0.5 for a logger that writes beside each position the force held over the
+    /// period before it, -0.5 for one that writes the force just commanded for the period
+    /// after it. Without it the force is read as logged unless reading it half a sample
+    /// later or earlier cuts the first baseline's error by 30 % or more (said in the output);
+    /// the logger's documentation is the better source.
+    #[arg(long, value_parser = force_skew, allow_hyphen_values = true)]
+    force_skew: Option<f64>,
 }
 
 /// `--force-skew`: a number of samples within `-2..=2`.
@@ -122,6 +123,9 @@ pub struct JsonOut<'a> {
     /// The position filter the record was read through \[Hz\] (`diagnose::prepare`; a slow
     /// logger's record at most 0.4 of its rate, `inverse::MAX_POSITION_CUTOFF_SHARE_OF_RATE`).
     pub position_cutoff_hz: f64,
+    /// How much later than logged the force was read \[samples\]: `--force-skew`, or where
+    /// none was given the diagnosis's choice (0, +0.5 or -0.5; a note says why).
+    pub force_skew_samples: f64,
     /// What the preparation says of the record (timing repaired, the filter a coarse count
     /// chose).
     pub notes: &'a [String],
@@ -183,9 +187,10 @@ pub fn run(a: &Args) -> Result<()> {
         truth,
         unweighted: a.unweighted,
         protocol: diagnose::inverse::Protocol {
-            force_skew_samples: a.force_skew,
+            force_skew_samples: a.force_skew.unwrap_or(0.0),
             ..Default::default()
         },
+        keep_force_reading: a.force_skew.is_some(),
         ..Default::default()
     };
     let wall = std::time::Instant::now();
@@ -239,6 +244,7 @@ pub fn run(a: &Args) -> Result<()> {
             regimes: &last.regimes,
             breakaway: &d.breakaway,
             position_cutoff_hz: d.prepared.position_cutoff_hz,
+            force_skew_samples: d.prepared.force_skew_samples,
             notes: &d.prepared.notes,
             search_edges: diagnose::effect_search_edges(&last.fit.model),
             contact: d.contact.as_ref(),

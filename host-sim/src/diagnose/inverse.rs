@@ -35,9 +35,11 @@ pub struct Protocol {
     /// generator's force-actuated records log the force of the period before, and on its
     /// effect-free record 3183 (issue's axes; named viscous power) the true model along the
     /// measured motion errs 3.19 % with the force as logged and 1.13 % read half a sample
-    /// later. The diagnosis does not choose it from the record (see the README, "The force
+    /// later. A skew on a fine grid is not chosen from the record (see the README, "The force
     /// logged half a sample late"): the fitted model's bristle damping and mass absorb most
     /// of a skew, and its misfit moves the choice; it is the logger's, which its user knows.
+    /// Where the user gives none, the diagnosis tries the two half-sample conventions against
+    /// this reading and leaves it only on a large margin (`diagnose::choose_force_reading`).
     pub force_skew_samples: f64,
 }
 
