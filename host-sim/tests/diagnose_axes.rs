@@ -21,12 +21,20 @@ use lugre_servo::friction::DwellAge;
 use std::path::Path;
 
 fn diagnose(effect: Option<&'static str>, seed: u64, add: &[&str]) -> (Diagnosis, Axis) {
+    let opts = Options {
+        add: add.iter().map(|s| s.to_string()).collect(),
+        ..Default::default()
+    };
+    diagnose_with(effect, seed, opts)
+}
+
+/// [`diagnose`] with options of its own (the final ranking skipped whatever they say).
+fn diagnose_with(effect: Option<&'static str>, seed: u64, opts: Options) -> (Diagnosis, Axis) {
     let (text, axis) = random_record(effect, seed);
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
     let opts = Options {
-        add: add.iter().map(|s| s.to_string()).collect(),
         skip_final_ranking: true,
-        ..Default::default()
+        ..opts
     };
     (diagnose::diagnose(&rec, "axis.csv", &opts).unwrap(), axis)
 }
@@ -1293,14 +1301,11 @@ fn family_b_draws_other_laws(which: &[usize]) {
 #[test]
 fn a_force_logged_half_a_sample_late_is_read_so_and_a_pressure_force_as_logged() {
     let run = |seed: u64, keep_force_reading: bool| {
-        let (text, axis) = random_record(None, seed);
-        let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
         let opts = Options {
-            skip_final_ranking: true,
             keep_force_reading,
             ..Default::default()
         };
-        (diagnose::diagnose(&rec, "axis.csv", &opts).unwrap(), axis)
+        diagnose_with(None, seed, opts)
     };
     let (chosen, axis) = run(3353, false);
     assert_eq!(axis.actuator, Actuator::Force);

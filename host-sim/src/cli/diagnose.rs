@@ -54,8 +54,9 @@ pub struct Args {
     /// (-2..2): +0.5 for a logger that writes beside each position the force held over the
     /// period before it, -0.5 for one that writes the force just commanded for the period
     /// after it. Without it the force is read as logged unless reading it half a sample
-    /// later or earlier cuts the first baseline's error by 30 % or more (said in the output);
-    /// the logger's documentation is the better source.
+    /// later or earlier cuts the baseline's error by 25 % or more
+    /// (`diagnose::FORCE_READING_MIN_CUT`; said in the output); the logger's documentation is
+    /// the better source.
     #[arg(long, value_parser = force_skew, allow_hyphen_values = true)]
     force_skew: Option<f64>,
 }

@@ -615,9 +615,9 @@ impl Candidate {
 
     /// For the leading candidate of a stage where none is significant: where its evidence is
     /// strong ([`Candidate::detected`]) and its error cut at least [`NEAR_CUT`] but below
-    /// its significance cut ([`significance_cut`]), a sentence saying so, for the text output and the report. "Nothing is
-    /// missing" would be the wrong reading there: the effect may be small, or the record may
-    /// show only part of it (or it is the chance the calibration counts; see [`NEAR_CUT`]).
+    /// its significance cut ([`significance_cut`]), a sentence saying so, for the text output
+    /// and the report. "Nothing is missing" would be the wrong reading there: the effect may be
+    /// small, or the record may show only part of it (or it is the chance the calibration counts; see [`NEAR_CUT`]).
     pub fn near_cut(&self) -> Option<String> {
         (self.detected
             && !self.significant
@@ -1220,29 +1220,6 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     })
 }
 
-/// The record prepared for the diagnosis: with the protocol's filters, and where the position
-/// reading's count is coarser than the protocol's reference, also with the lower position
-/// cutoff that count calls for ([`inverse::position_cutoff_for_count`]); of the two, the one
-/// whose first baseline ([`first_baseline`]) errs less on the samples both score. A lower cutoff
-/// takes out quantisation noise and, on a fast axis, motion the model needs: which weighs more
-/// depends on the record. (On the calibration records read through a 5 um count, `axis_suite 5
-/// 30 --calibration --encoder-um 5`, a fixed 50 Hz took the baseline's error from 2.13 to
-/// 1.30 % on temperature record 1404 and from 1.80 to 5.72 % on Stribeck record 1503, and named
-/// one effect fewer than 100 Hz on the 70 records; chosen per record, one more: 32 of 40.)
-/// Returns the prepared record, its protocol (the reference count cleared: the cutoff chosen)
-/// and the first baseline when the choice fitted it.
-pub fn prepare(
-    rec: &Record,
-    name: &str,
-    opts: &Options,
-) -> Result<(Prepared, Protocol, Option<Fit>)> {
-    let protocol = Protocol {
-        reference_count_m: None,
-        ..opts.protocol
-    };
-    prepare_filtered(rec, name, opts, protocol)
-}
-
 /// The smallest cut of the baseline's error (a fraction) for which `choose_force_reading`
 /// reads the force half a sample off the log. Set on used effect-free records of the wide axes
 /// (`axis_suite 0 0 --seeds none:3320..3369`, both actuators; session 77): the baseline refitted
@@ -1306,13 +1283,26 @@ fn choose_force_reading(
     })
 }
 
-/// [`prepare`]'s choice of the position cutoff, the force read as `protocol` says.
-fn prepare_filtered(
+/// The record prepared for the diagnosis: with the protocol's filters, and where the position
+/// reading's count is coarser than the protocol's reference, also with the lower position
+/// cutoff that count calls for ([`inverse::position_cutoff_for_count`]); of the two, the one
+/// whose first baseline ([`first_baseline`]) errs less on the samples both score. A lower cutoff
+/// takes out quantisation noise and, on a fast axis, motion the model needs: which weighs more
+/// depends on the record. (On the calibration records read through a 5 um count, `axis_suite 5
+/// 30 --calibration --encoder-um 5`, a fixed 50 Hz took the baseline's error from 2.13 to
+/// 1.30 % on temperature record 1404 and from 1.80 to 5.72 % on Stribeck record 1503, and named
+/// one effect fewer than 100 Hz on the 70 records; chosen per record, one more: 32 of 40.)
+/// Returns the prepared record, its protocol (the reference count cleared: the cutoff chosen)
+/// and the first baseline when the choice fitted it.
+pub fn prepare(
     rec: &Record,
     name: &str,
     opts: &Options,
-    protocol: Protocol,
 ) -> Result<(Prepared, Protocol, Option<Fit>)> {
+    let protocol = Protocol {
+        reference_count_m: None,
+        ..opts.protocol
+    };
     let mut p = Prepared::new(rec, name, protocol)?;
     let count = p.count_m;
     let low_hz = inverse::position_cutoff_for_count(&opts.protocol, count);

@@ -669,16 +669,17 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
 /// of the residual left by the measurement pipeline (filtering, differentiation, sampling)
 /// with dBIC in the hundreds on thousands of effective samples, while a missing effect that
 /// matters cuts the error by far more. A statistically detectable change smaller than this
-/// is not an engineering finding. Session 77 raised it from 0.15 to 0.20: on the issue's axes
-/// (`axis_suite --axes issue`) 0.15 gave 26 false positives of 440 effect-free records
-/// (5.9 %, over the 5 % target), where the generator's half-sample force skew leaves a residual
-/// that flexible candidates (viscous power most often) take up (session 75); on session 76's 240 effect-free records (140
-/// issue's axes, 100 wide) the ranked candidates give 14 false positives at 0.15 and 9 at 0.20
-/// (with the dwell term at [`DWELL_MIN_ERROR_CUT`]), and on their 240 effect records 227 and
-/// 226 named right (the one lost: Stribeck 34560, cut 0.18); judged on never-run sets
+/// is not an engineering finding. Session 77 raised it from 0.15 to 0.20: on the issue's
+/// axes (`axis_suite --axes issue`) 0.15 gave 26 false positives of 440 effect-free records
+/// (5.9 %, over the 5 % target), where the generator's half-sample force skew leaves a
+/// residual that flexible candidates (viscous power most often) take up (session 75); on
+/// session 76's 240 effect-free records (140 issue's axes, 100 wide) the ranked candidates
+/// give 14 false positives at 0.15 and 9 at 0.20 (with the dwell term at
+/// [`DWELL_MIN_ERROR_CUT`]), and on their 240 effect records 227 and 226 named right (the
+/// one lost: Stribeck 34560, cut 0.18); judged on never-run sets
 /// (`docs/registrations/s77/prereg.txt`). Until session 77 the cut was the smallest on the
-/// calibration seeds' curve with at most 2 false positives of 50 (4 %). Session 23's curve, with the motion weights
-/// ([`motion_weights`]): 0.12 gave 3 false positives and 71 right, 0.15 gave 2 and 71, 0.20
+/// calibration seeds' curve with at most 2 false positives of 50 (4 %). Session 23's curve,
+/// with the motion weights ([`motion_weights`]): 0.12 gave 3 false positives and 71 right, 0.15 gave 2 and 71, 0.20
 /// gave 1 and 69. Scoring every moving sample alike (session 20's curve), 0.15 gave 3 and 69,
 /// 0.20 gave 2 and 69, so that rule's cut was 0.20 (session 10 set it; session 8 chose 0.15 on
 /// a pipeline that scored edge transients and readings at rest).
