@@ -38,7 +38,9 @@
 //! model without it, plus the constant force that fits best) scores within 1.2x the floor:
 //! there the record cannot show that the asymmetry is not an offset.
 //! The records whose baseline restarted from a better start (`diagnose::Restart`) are listed in
-//! `--seeds` form, to rerun exactly those.
+//! `--seeds` form, to rerun exactly those, and so are the records whose force the diagnosis read
+//! other than logged or given (`diagnose::choose_force_reading`); each JSON row carries the
+//! reading used (`force_skew_samples`).
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;
@@ -181,6 +183,10 @@ struct Row {
     /// the baseline's candidates whose fit from the asymmetric static table won over their fit
     /// from the model (`diagnose::TABLE_SPANNED`, `Candidate::from_static_table`)
     from_table: Vec<String>,
+    /// how many samples later than logged the diagnosis read the force
+    /// (`Prepared::force_skew_samples`: the `--force-skew` given, or the reading
+    /// `diagnose::choose_force_reading` chose)
+    force_skew_samples: f64,
 }
 
 /// The Maxwell-slip contact in the final model's place (`diagnose::contact`, tried where the
@@ -457,6 +463,23 @@ fn main() {
         },
         restarted.join(",")
     );
+    // named in `--seeds` form as the restarts are: where the force reading moved the answer
+    let reread: Vec<String> = rows
+        .iter()
+        .filter(|r| read_otherwise(r))
+        .map(|r| format!("{}:{}", r.hidden, r.seed))
+        .collect();
+    println!(
+        "records whose force the diagnosis read other than logged (or given): {} of {} \
+         ({} force-actuated){}{}",
+        reread.len(),
+        rows.len(),
+        rows.iter()
+            .filter(|r| read_otherwise(r) && r.actuator == "force")
+            .count(),
+        if reread.is_empty() { "" } else { ": --seeds " },
+        reread.join(",")
+    );
     per_set(&rows);
     println!(
         "({} records, {:.0} s)",
@@ -469,6 +492,18 @@ fn main() {
             .expect("write json");
         println!("wrote {path}");
     }
+}
+
+/// Whether the diagnosis read this record's force other than the suite asked: the
+/// `--force-skew` given for a force-actuated record, as logged otherwise (a record that was
+/// not diagnosed is not counted).
+fn read_otherwise(r: &Row) -> bool {
+    let asked = if r.actuator == "force" {
+        generators::axis::force_skew_from_args(&std::env::args().collect::<Vec<_>>())
+    } else {
+        0.0
+    };
+    r.force_skew_samples.is_finite() && r.force_skew_samples != asked
 }
 
 impl Row {
@@ -673,6 +708,7 @@ fn run(
         restarts: 0,
         settled: Vec::new(),
         from_table: Vec::new(),
+        force_skew_samples: f64::NAN,
     };
     let name = format!("{hidden}-{seed}.csv");
     let rec = match Record::parse(&text, Path::new(&name)) {
@@ -710,6 +746,7 @@ fn run(
         }
     };
     let p = &d.prepared;
+    row.force_skew_samples = p.force_skew_samples;
     let along = |axis: &generators::axis::Axis| generators::axis::truth_error_pct(axis, p);
     row.floor_pct = along(&axis);
     row.floor_measured_clock_pct = along(&generators::axis::Axis {
