@@ -463,7 +463,7 @@ fn main() {
         },
         restarted.join(",")
     );
-    // named in `--seeds` form as the restarts are: where the force reading moved the answer
+    // named in `--seeds` form as the restarts are, to rerun exactly those
     let reread: Vec<String> = rows
         .iter()
         .filter(|r| read_otherwise(r))
