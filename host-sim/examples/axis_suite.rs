@@ -40,7 +40,7 @@
 //! The records whose baseline restarted from a better start (`diagnose::Restart`) are listed in
 //! `--seeds` form, to rerun exactly those, and so are the records whose force the diagnosis read
 //! other than logged or given (`diagnose::choose_force_reading`); each JSON row carries the
-//! reading used (`force_skew_samples`).
+//! reading asked and the one used (`force_skew_asked`, `force_skew_samples`).
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;
@@ -183,9 +183,11 @@ struct Row {
     /// the baseline's candidates whose fit from the asymmetric static table won over their fit
     /// from the model (`diagnose::TABLE_SPANNED`, `Candidate::from_static_table`)
     from_table: Vec<String>,
-    /// how many samples later than logged the diagnosis read the force
-    /// (`Prepared::force_skew_samples`: the `--force-skew` given, or the reading
-    /// `diagnose::choose_force_reading` chose)
+    /// how many samples later than logged the suite asked the force read: the `--force-skew`
+    /// given for a force-actuated record, 0 (as logged) otherwise
+    force_skew_asked: f64,
+    /// how many samples later than logged the diagnosis read it (`Prepared::force_skew_samples`:
+    /// the skew asked, or the reading `diagnose::choose_force_reading` chose)
     force_skew_samples: f64,
 }
 
@@ -464,21 +466,19 @@ fn main() {
         restarted.join(",")
     );
     // named in `--seeds` form as the restarts are, to rerun exactly those
-    let reread: Vec<String> = rows
-        .iter()
-        .filter(|r| read_otherwise(r))
-        .map(|r| format!("{}:{}", r.hidden, r.seed))
-        .collect();
+    let reread: Vec<&Row> = rows.iter().filter(|r| r.read_otherwise()).collect();
     println!(
         "records whose force the diagnosis read other than logged (or given): {} of {} \
          ({} force-actuated){}{}",
         reread.len(),
         rows.len(),
-        rows.iter()
-            .filter(|r| read_otherwise(r) && r.actuator == "force")
-            .count(),
+        reread.iter().filter(|r| r.actuator == "force").count(),
         if reread.is_empty() { "" } else { ": --seeds " },
-        reread.join(",")
+        reread
+            .iter()
+            .map(|r| format!("{}:{}", r.hidden, r.seed))
+            .collect::<Vec<_>>()
+            .join(",")
     );
     per_set(&rows);
     println!(
@@ -494,19 +494,13 @@ fn main() {
     }
 }
 
-/// Whether the diagnosis read this record's force other than the suite asked: the
-/// `--force-skew` given for a force-actuated record, as logged otherwise (a record that was
-/// not diagnosed is not counted).
-fn read_otherwise(r: &Row) -> bool {
-    let asked = if r.actuator == "force" {
-        generators::axis::force_skew_from_args(&std::env::args().collect::<Vec<_>>())
-    } else {
-        0.0
-    };
-    r.force_skew_samples.is_finite() && r.force_skew_samples != asked
-}
-
 impl Row {
+    /// The diagnosis read the force other than the suite asked (a record that was not
+    /// diagnosed is not counted).
+    fn read_otherwise(&self) -> bool {
+        self.force_skew_samples.is_finite() && self.force_skew_samples != self.force_skew_asked
+    }
+
     /// The first significant candidate is the hidden effect.
     fn named_right(&self) -> bool {
         self.first_significant.as_deref() == Some(self.hidden.as_str())
@@ -708,6 +702,13 @@ fn run(
         restarts: 0,
         settled: Vec::new(),
         from_table: Vec::new(),
+        // the generator's hydraulic records read the force from pressures sampled with the
+        // position: no skew to undo there
+        force_skew_asked: if axis.actuator == generators::axis::Actuator::Force {
+            generators::axis::force_skew_from_args(&std::env::args().collect::<Vec<_>>())
+        } else {
+            0.0
+        },
         force_skew_samples: f64::NAN,
     };
     let name = format!("{hidden}-{seed}.csv");
@@ -725,13 +726,7 @@ fn run(
         leave_out_unresolved: leave_out_unresolved(),
         unweighted: std::env::args().any(|a| a == "--unweighted"),
         protocol: host_sim::diagnose::inverse::Protocol {
-            // the generator's hydraulic records read the force from pressures sampled with the
-            // position: no skew to undo there
-            force_skew_samples: if axis.actuator == generators::axis::Actuator::Force {
-                generators::axis::force_skew_from_args(&std::env::args().collect::<Vec<_>>())
-            } else {
-                0.0
-            },
+            force_skew_samples: row.force_skew_asked,
             ..Default::default()
         },
         // a skew given is read as given; without it the diagnosis chooses the reading

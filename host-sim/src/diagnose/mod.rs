@@ -617,7 +617,8 @@ impl Candidate {
     /// strong ([`Candidate::detected`]) and its error cut at least [`NEAR_CUT`] but below
     /// its significance cut ([`significance_cut`]), a sentence saying so, for the text output
     /// and the report. "Nothing is missing" would be the wrong reading there: the effect may be
-    /// small, or the record may show only part of it (or it is the chance the calibration counts; see [`NEAR_CUT`]).
+    /// small, or the record may show only part of it (or it is the chance the calibration
+    /// counts; see [`NEAR_CUT`]).
     pub fn near_cut(&self) -> Option<String> {
         (self.detected
             && !self.significant
@@ -1403,7 +1404,7 @@ mod tests {
             detected,
             error_cut,
             explained_rms_n: 1.0,
-            significant: detected && error_cut >= DWELL_MIN_ERROR_CUT,
+            significant: detected && error_cut >= significance_cut(EffectKind::DwellStiction),
             nonlinear_excludes_null: true,
             ..Candidate::unscored(effect_info(EffectKind::DwellStiction))
         }

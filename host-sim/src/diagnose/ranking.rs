@@ -679,10 +679,11 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
 /// one lost: Stribeck 34560, cut 0.18); judged on never-run sets
 /// (`docs/registrations/s77/prereg.txt`). Until session 77 the cut was the smallest on the
 /// calibration seeds' curve with at most 2 false positives of 50 (4 %). Session 23's curve,
-/// with the motion weights ([`motion_weights`]): 0.12 gave 3 false positives and 71 right, 0.15 gave 2 and 71, 0.20
-/// gave 1 and 69. Scoring every moving sample alike (session 20's curve), 0.15 gave 3 and 69,
-/// 0.20 gave 2 and 69, so that rule's cut was 0.20 (session 10 set it; session 8 chose 0.15 on
-/// a pipeline that scored edge transients and readings at rest).
+/// with the motion weights ([`motion_weights`]): 0.12 gave 3 false positives and 71 right,
+/// 0.15 gave 2 and 71, 0.20 gave 1 and 69. Scoring every moving sample alike (session 20's
+/// curve), 0.15 gave 3 and 69, 0.20 gave 2 and 69, so that rule's cut was 0.20 (session 10
+/// set it; session 8 chose 0.15 on a pipeline that scored edge transients and readings at
+/// rest).
 pub const MIN_ERROR_CUT: f64 = 0.20;
 
 /// [`MIN_ERROR_CUT`] for `dwell_stiction`, whose cut is of its rest-independent twin's error
