@@ -643,7 +643,7 @@ impl Candidate {
 
 /// The error cut from which a leading candidate that is detected but not significant is
 /// pointed out ([`Candidate::near_cut`]), a fraction: half of the significance cut that held
-/// until session 77 (0.15; [`DWELL_MIN_ERROR_CUT`] still). Counted on the
+/// until session 77 (0.15; the dwell term's until session 79). Counted on the
 /// independent generator's records (session 28, `axis_suite`): effect-free records leading
 /// with such a candidate, 11 of 100 on the calibration seeds and 5 of 50 held-out; records
 /// whose hidden effect was missed, 4 of 7 on calibration (the hidden effect in 3: dwell 1702
