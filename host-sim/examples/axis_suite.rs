@@ -605,40 +605,64 @@ fn tally(rs: &[&Row], floor: impl Fn(&Row) -> f64) -> Tally {
     }
 }
 
-/// The decision rule's calibration curve: for each error cut, how many effect-free records get
-/// a significant effect and how many hidden effects are named first. The diagnosis's cut
-/// (`MIN_ERROR_CUT`) is chosen from this curve on the calibration seeds.
+/// The decision rule's calibration curves: for each error cut, how many effect-free records get
+/// a significant candidate (false positives) and how many effect records have the hidden effect
+/// as the first significant one, re-read from the ranked candidates (detected, and cutting the
+/// error by the cut). First one cut for every candidate; then the dwell term's own cut
+/// (`diagnose::DWELL_MIN_ERROR_CUT`) with every other candidate held at the general cut
+/// (`diagnose::MIN_ERROR_CUT`): the curve session 79 chose the dwell cut on.
 fn calibration_curve(rows: &[Row]) {
-    // the first candidate, in ranked order, that is detected and cuts the error by `cut`
-    let first = |r: &Row, cut: f64| {
+    let dwell = lugre_servo::friction::EffectKind::DwellStiction.name();
+    // the first candidate, in ranked order, that is detected and cuts the error by its cut
+    let first = |r: &Row, cut_of: &dyn Fn(&str) -> f64| {
         r.candidates
             .iter()
-            .find(|c| c.3 && c.4 >= cut)
+            .find(|c| c.3 && c.4 >= cut_of(&c.0))
             .map(|c| c.0.clone())
     };
     let ok: Vec<&Row> = rows.iter().filter(|r| r.error.is_none()).collect();
     let none: Vec<&&Row> = ok.iter().filter(|r| r.hidden == "none").collect();
     let with: Vec<&&Row> = ok.iter().filter(|r| r.hidden != "none").collect();
-    println!(
-        "\ncalibration curve (current cut {:.2}):\n{:>6} {:>18} {:>18}",
-        diagnose::MIN_ERROR_CUT,
-        "cut",
-        "false positives",
-        "effects right"
-    );
-    for cut in [0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.15, 0.20, 0.30] {
-        let fp = none.iter().filter(|r| first(r, cut).is_some()).count();
+    let line = |label: f64, cut_of: &dyn Fn(&str) -> f64| {
+        let fp = none.iter().filter(|r| first(r, cut_of).is_some()).count();
         let right = with
             .iter()
-            .filter(|r| first(r, cut).as_deref() == Some(r.hidden.as_str()))
+            .filter(|r| first(r, cut_of).as_deref() == Some(r.hidden.as_str()))
             .count();
         println!(
-            "{cut:>6.2} {:>9} ({:>4.1} %) {:>9} ({:>4.1} %)",
+            "{label:>6.3} {:>9} ({:>4.1} %) {:>9} ({:>4.1} %)",
             fp,
             pct(fp, none.len()),
             right,
             pct(right, with.len())
         );
+    };
+    let header = |title: String| {
+        println!(
+            "\n{title}:\n{:>6} {:>18} {:>18}",
+            "cut", "false positives", "effects right"
+        )
+    };
+    header(format!(
+        "calibration curve, one cut for every candidate (current cut {:.2}, {dwell} {:.2})",
+        diagnose::MIN_ERROR_CUT,
+        diagnose::DWELL_MIN_ERROR_CUT
+    ));
+    for cut in [0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.15, 0.20, 0.30] {
+        line(cut, &|_| cut);
+    }
+    header(format!(
+        "the {dwell} cut alone, every other candidate at {:.2}",
+        diagnose::MIN_ERROR_CUT
+    ));
+    for cut in [0.05, 0.06, 0.08, 0.09, 0.10, 0.11, 0.12, 0.125, 0.15, 0.20] {
+        line(cut, &|name| {
+            if name == dwell {
+                cut
+            } else {
+                diagnose::MIN_ERROR_CUT
+            }
+        });
     }
 }
 

@@ -696,8 +696,9 @@ pub const MIN_ERROR_CUT: f64 = 0.20;
 /// positives away: re-read from main's rows of 280 used effect-free records (sessions 78 and
 /// 79, issue's and wide axes, one set with a Maxwell-slip contact) the smallest cut with at
 /// most 2 % false positives was 0.10 (5 of 280, against 3 at 0.15; 8 at 0.09), no non-dwell
-/// effect record's answer moved, and 19 of 30 dwell records were named against 13; judged on
-/// never-run sets (`docs/registrations/s79/prereg.txt`).
+/// effect record's answer moved, and 19 of 30 dwell records were named against 13 (the curve
+/// `axis_suite` prints as "the dwell_stiction cut alone"); judged on never-run sets
+/// (`docs/registrations/s79/prereg.txt`).
 pub const DWELL_MIN_ERROR_CUT: f64 = 0.10;
 
 /// The error cut at which a candidate of effect `kind` is significant (`decision_cut`).
