@@ -159,7 +159,8 @@ fn a_restart_from_a_better_start_is_reported() {
         report(&d)
     );
     // after the restart nothing is searched again: the candidates not significant before keep
-    // their fits, say so, and are judged against the new model (their cut is of its error)
+    // their fits, say so, and are judged against the new model (their cut is of its error,
+    // the dwell term's too since session 80: its twin weighs only its growth with the rest)
     let kept: Vec<_> = s
         .candidates
         .iter()
@@ -171,11 +172,23 @@ fn a_restart_from_a_better_start_is_reported() {
         let err = c.rel_err_pct.expect("a tested candidate");
         let cut = 1.0 - err / s.fit.rel_err_pct;
         assert!(
-            c.kind.name() == "dwell_stiction" || (c.error_cut - cut).abs() < 1e-12,
+            (c.error_cut - cut).abs() < 1e-12,
             "{}: cut {} against the new model's {cut}",
             c.kind,
             c.error_cut
         );
+    }
+    // every tested dwell term: the decision's cut is its record cut, and its twin's cut (the
+    // growth's share) never exceeds it
+    for c in s
+        .candidates
+        .iter()
+        .filter(|c| c.kind.name() == "dwell_stiction")
+    {
+        if let Some(dw) = c.dwell {
+            assert_eq!(c.error_cut, dw.record_cut, "{dw:?}");
+            assert!(dw.twin_cut <= dw.record_cut + 1e-12, "{dw:?}");
+        }
     }
 }
 

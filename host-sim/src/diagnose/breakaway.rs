@@ -57,9 +57,10 @@ pub const MIN_REST_SPAN: f64 = 4.0;
 /// `dwell_stiction` is significant only where its force depends on the rest time: the fitted
 /// dwell term must beat the same term with every rest counted as long (time constant
 /// [`REST_INDEPENDENT_TAU_S`]: a breakaway level of its own, whatever the rest) by at least
-/// this evidence (sliding dBIC plus the peaks'), and cut that twin's error by the decision's
-/// cut (`DWELL_MIN_ERROR_CUT`). A dwell term also gives a model a breakaway level apart from the
-/// Stribeck curve it slides on; growth with the rest time is what dwell stiction is.
+/// this evidence (sliding dBIC plus the peaks'), and then cut the current model's error by the
+/// decision's cut (`DWELL_MIN_ERROR_CUT`; until session 80 the twin's error). A dwell term also
+/// gives a model a breakaway level apart from the Stribeck curve it slides on; growth with the
+/// rest time is what dwell stiction is.
 pub const DWELL_MIN_GROWTH_DBIC: f64 = 2.0;
 
 /// The model-free trend of the peaks ([`DwellTrend`]) counts as growth with the rest time at

@@ -344,10 +344,9 @@ pub struct Candidate {
     /// no caution), whatever the size of its error cut.
     pub detected: bool,
     /// The relative cut of the record's error the decision rule weighs (a fraction; negative
-    /// when the candidate is worse): against the current model, or for `dwell_stiction`
-    /// against its rest-independent twin (see `decision_cut`).
+    /// when the candidate is worse): against the current model (see `decision_cut`).
     pub error_cut: f64,
-    /// The force it explains beyond the decision's reference, rms over the scored samples
+    /// The force it explains beyond the current model, rms over the scored samples
     /// (`explained_rms`) \[N\]: 0 when skipped or worse. Compare it with the force reading's
     /// noise in the band ([`Prepared::force_noise_in_band_n`]); it is not part of the decision
     /// (session 33: real effects explain as little as 0.86 times that noise).
@@ -626,14 +625,9 @@ impl Candidate {
             && self.error_cut >= NEAR_CUT)
             .then(|| {
                 format!(
-                    "detected, and it cuts the error{} by {:.0} %, where a significant effect cuts {:.0} % or more: \
+                    "detected, and it cuts the error by {:.0} %, where a significant effect cuts {:.0} % or more: \
                      a small effect, or one this record shows only in part (effect-free calibration records \
                      lead with one this large in about one of ten); add it to see its fit",
-                    if self.dwell.is_some() {
-                        " of a breakaway level that ignores the rest time"
-                    } else {
-                        ""
-                    },
                     100.0 * self.error_cut,
                     100.0 * significance_cut(self.kind)
                 )

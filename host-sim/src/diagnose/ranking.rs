@@ -686,19 +686,23 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
 /// rest).
 pub const MIN_ERROR_CUT: f64 = 0.20;
 
-/// [`MIN_ERROR_CUT`] for `dwell_stiction`, whose cut is of its rest-independent twin's error
-/// (`decision_cut`), not the current model's: a null of its own. On the 240 effect-free
-/// records of session 76's sets (issue's and wide axes) the dwell candidate, detected, cut its
-/// twin's error by 0.25 once (where a Stribeck candidate led) and by at most 0.10 otherwise;
-/// the general cut's tail (viscous power up to 0.38) does not apply to it. It stayed at 0.15,
-/// the cut all candidates had until session 77, until session 79 calibrated it to the
-/// false-positive rate once the force reading (`choose_force_reading`) had taken most false
-/// positives away: re-read from main's rows of 280 used effect-free records (sessions 78 and
-/// 79, issue's and wide axes, one set with a Maxwell-slip contact) the smallest cut with at
+/// [`MIN_ERROR_CUT`] for `dwell_stiction`, whose growth with the rest time is weighed
+/// against a null of its own (its rest-independent twin, `detected`) before its size is. On the
+/// 240 effect-free records of session 76's sets (issue's and wide axes) the dwell candidate,
+/// detected, cut its twin's error by 0.25 once (where a Stribeck candidate led) and by at most
+/// 0.10 otherwise; the general cut's tail (viscous power up to 0.38) does not apply to it. It
+/// stayed at 0.15, the cut all candidates had until session 77, until session 79 calibrated it
+/// to the false-positive rate once the force reading (`choose_force_reading`) had taken most
+/// false positives away: re-read from main's rows of 280 used effect-free records (sessions 78
+/// and 79, issue's and wide axes, one set with a Maxwell-slip contact) the smallest cut with at
 /// most 2 % false positives was 0.10 (5 of 280, against 3 at 0.15; 8 at 0.09), no non-dwell
 /// effect record's answer moved, and 19 of 30 dwell records were named against 13 (the curve
 /// `axis_suite` prints as "the dwell_stiction cut alone"); judged on never-run sets
-/// (`docs/registrations/s79/prereg.txt`).
+/// (`docs/registrations/s79/prereg.txt`). Until session 80 it was a cut of the twin's error;
+/// since then of the current model's, as every effect's (`decision_cut`): the same rule on
+/// 430 used effect-free records gives 0.10 again (7 false positives; 14 at 0.08). Judged on
+/// never-run sets: 4 false positives of 150 (main's rule 3), dwell right 27 of 40 (main's 21),
+/// no other answer moved (`docs/registrations/s80/prereg.txt`).
 pub const DWELL_MIN_ERROR_CUT: f64 = 0.10;
 
 /// The error cut at which a candidate of effect `kind` is significant (`decision_cut`).
@@ -709,27 +713,32 @@ pub fn significance_cut(kind: EffectKind) -> f64 {
     }
 }
 
-/// The error cut a candidate is judged by (a fraction: `1 - candidate / reference`), of the
-/// record's error. The reference is the current model, except for `dwell_stiction`, whose
-/// reference is its rest-independent twin ([`rest_independent_twin`]: the same term with every
-/// rest counted as long, never worse than the current model): what counts is the share of the
-/// error that the growth with the rest time explains, not what any breakaway level of its own
-/// would. (Until session 24 a dwell term was weighed on the breakaway peaks' rms error and
-/// gated by the peaks' trends with the rest time: its record cut on effect-free records reached
-/// 60 %, the current model's bristle carrying a stale deflection through every rest; since the
-/// bristle carries the measured holding force at rest, see [`inverse::AxisModel::simulate`],
-/// the record's error separates dwell records from effect-free ones.)
-fn decision_cut(current: &Fit, candidate: &Fit, rest_null: Option<&RestNull>) -> f64 {
-    let reference = rest_null.map_or(current.rel_err_pct, |null| null.rel_err_pct);
-    1.0 - candidate.rel_err_pct / reference
+/// The error cut a candidate is judged by (a fraction: `1 - candidate / current`), of the
+/// record's error against the current model, for every effect. `dwell_stiction` has a null of
+/// its own besides ([`rest_independent_twin`]: the same term with every rest counted as long),
+/// which its evidence for growth with the rest time is weighed against
+/// ([`breakaway::DWELL_MIN_GROWTH_DBIC`], part of `detected`); once that growth is shown, the
+/// size of the finding is what the term removes from the current model's error, as for every
+/// other effect. Until session 80 the dwell's cut was of its twin's error: a record whose rests
+/// mostly outlast the time constant shows its dwell stiction as a breakaway level the twin
+/// shares, and the growth the twin lacks is a small part of the error, so the gate on the
+/// growth was applied twice (on 430 used effect-free and 70 dwell records of sessions 78 and
+/// 79, re-read: 7 false positives against 6, and 50 dwell records named against 44; judged
+/// on never-run sets, `docs/registrations/s80/prereg.txt`). (Until session 24 a dwell term was
+/// weighed on the breakaway peaks' rms error and gated by the peaks' trends with the rest
+/// time: its record cut on effect-free records reached 60 %, the current model's bristle
+/// carrying a stale deflection through every rest; since the bristle carries the measured
+/// holding force at rest, see [`inverse::AxisModel::simulate`], the record's error separates
+/// dwell records from effect-free ones.)
+fn decision_cut(current: &Fit, candidate: &Fit) -> f64 {
+    1.0 - candidate.rel_err_pct / current.rel_err_pct
 }
 
-/// The force a candidate explains beyond the decision's reference (the current model, or for
-/// `dwell_stiction` its rest-independent twin, as in [`decision_cut`]), rms over the scored
-/// samples: `sqrt(max(RSS_ref - RSS, 0) / sum w)` \[N\].
-fn explained_rms(current: &Current, candidate: &Fit, rest_null: Option<&RestNull>) -> f64 {
-    let reference = rest_null.map_or(current.fit.rss, |null| null.rss);
-    ((reference - candidate.rss).max(0.0) / current.weight_sum).sqrt()
+/// The force a candidate explains beyond the current model (the reference of
+/// [`decision_cut`]), rms over the scored samples: `sqrt(max(RSS_current - RSS, 0) / sum w)`
+/// \[N\].
+fn explained_rms(current: &Current, candidate: &Fit) -> f64 {
+    ((current.fit.rss - candidate.rss).max(0.0) / current.weight_sum).sqrt()
 }
 
 /// Scores a refitted candidate against the current model: dBIC, significance, parameters.
@@ -819,12 +828,13 @@ fn judge(
         _ => None,
     };
     let detected = dbic > 10.0 && caution.is_none() && (linear_excludes || nonlinear_excludes_null);
-    let error_cut = decision_cut(current.fit, &fit, rest_null.as_ref());
-    let explained_rms_n = explained_rms(current, &fit, rest_null.as_ref());
+    let error_cut = decision_cut(current.fit, &fit);
+    let explained_rms_n = explained_rms(current, &fit);
     let dwell = rest_null.map(|null| DwellEvidence {
         growth_dbic: growth.unwrap_or(f64::NAN),
         twin_rel_err_pct: null.rel_err_pct,
-        record_cut: 1.0 - fit.rel_err_pct / current.fit.rel_err_pct,
+        twin_cut: 1.0 - fit.rel_err_pct / null.rel_err_pct,
+        record_cut: error_cut,
         peak_cut: 1.0 - (peak_rss / null.peak_rss).sqrt(),
         age_at_stick: fit::age_rule(&fit.model),
     });
@@ -849,7 +859,7 @@ fn judge(
 /// The residuals of a fitted dwell term's rest-independent twin: the same model refitted with
 /// every rest counted as long ([`breakaway::REST_INDEPENDENT_TAU_S`]), a breakaway level of its
 /// own whatever the rest. [`judge`] calls the dwell term only where it beats this twin by
-/// [`breakaway::DWELL_MIN_GROWTH_DBIC`] and cuts the twin's error by [`DWELL_MIN_ERROR_CUT`]
+/// [`breakaway::DWELL_MIN_GROWTH_DBIC`] (its `detected`) and then cuts the current model's error by [`DWELL_MIN_ERROR_CUT`]
 /// ([`decision_cut`]).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RestNull {
@@ -888,9 +898,13 @@ pub struct DwellEvidence {
     /// Evidence for the growth against the rest-independent twin (`rest_independent_twin`):
     /// `n_eff ln(RSS_twin / RSS)` plus the breakaway peaks' dBIC against the twin's.
     pub growth_dbic: f64,
-    /// The twin's error [%] (the reference of the decision's cut, `decision_cut`).
+    /// The twin's error [%].
     pub twin_rel_err_pct: f64,
-    /// The candidate's cut of the current model's error (a fraction).
+    /// The candidate's cut of the twin's error, `1 - error / twin_rel_err_pct` (a fraction;
+    /// never above `record_cut`): the decision's cut until session 80 (`decision_cut`).
+    pub twin_cut: f64,
+    /// The candidate's cut of the current model's error (a fraction): the decision's cut, the
+    /// candidate's `error_cut`.
     pub record_cut: f64,
     /// The candidate's cut of the breakaway peaks' rms error against the twin's,
     /// `1 - sqrt(RSS_peaks / RSS_peaks,twin)` (a fraction; NaN without peaks). Diagnostic:
