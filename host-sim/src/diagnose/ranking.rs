@@ -859,8 +859,8 @@ fn judge(
 /// The residuals of a fitted dwell term's rest-independent twin: the same model refitted with
 /// every rest counted as long ([`breakaway::REST_INDEPENDENT_TAU_S`]), a breakaway level of its
 /// own whatever the rest. [`judge`] calls the dwell term only where it beats this twin by
-/// [`breakaway::DWELL_MIN_GROWTH_DBIC`] (its `detected`) and then cuts the current model's error by [`DWELL_MIN_ERROR_CUT`]
-/// ([`decision_cut`]).
+/// [`breakaway::DWELL_MIN_GROWTH_DBIC`] (its `detected`) and then cuts the current model's
+/// error by [`DWELL_MIN_ERROR_CUT`] ([`decision_cut`]).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RestNull {
     /// Residual sum of squares \[N^2\].
