@@ -49,6 +49,7 @@ use generators::axis::{random_record_of, Axes, ContactKind, Family, Sensors, EFF
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use indicatif::{ProgressBar, ProgressStyle};
+use lugre_servo::friction::EffectKind;
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -612,18 +613,19 @@ fn tally(rs: &[&Row], floor: impl Fn(&Row) -> f64) -> Tally {
 /// (`diagnose::DWELL_MIN_ERROR_CUT`) with every other candidate held at the general cut
 /// (`diagnose::MIN_ERROR_CUT`): the curve session 79 chose the dwell cut on.
 fn calibration_curve(rows: &[Row]) {
-    let dwell = lugre_servo::friction::EffectKind::DwellStiction.name();
-    // the first candidate, in ranked order, that is detected and cuts the error by its cut
-    let first = |r: &Row, cut_of: &dyn Fn(&str) -> f64| {
+    let dwell = EffectKind::DwellStiction;
+    // the first candidate, in ranked order, that is detected and cuts the error by its kind's
+    // cut (the rows carry the names the diagnosis wrote)
+    let first = |r: &Row, cut_of: &dyn Fn(EffectKind) -> f64| {
         r.candidates
             .iter()
-            .find(|c| c.3 && c.4 >= cut_of(&c.0))
+            .find(|c| c.3 && EffectKind::parse(&c.0).is_ok_and(|k| c.4 >= cut_of(k)))
             .map(|c| c.0.clone())
     };
     let ok: Vec<&Row> = rows.iter().filter(|r| r.error.is_none()).collect();
     let none: Vec<&&Row> = ok.iter().filter(|r| r.hidden == "none").collect();
     let with: Vec<&&Row> = ok.iter().filter(|r| r.hidden != "none").collect();
-    let line = |label: f64, cut_of: &dyn Fn(&str) -> f64| {
+    let line = |label: f64, cut_of: &dyn Fn(EffectKind) -> f64| {
         let fp = none.iter().filter(|r| first(r, cut_of).is_some()).count();
         let right = with
             .iter()
@@ -644,23 +646,25 @@ fn calibration_curve(rows: &[Row]) {
         )
     };
     header(format!(
-        "calibration curve, one cut for every candidate (current cut {:.2}, {dwell} {:.2})",
+        "calibration curve, one cut for every candidate (current cut {:.2}, {} {:.2})",
         diagnose::MIN_ERROR_CUT,
-        diagnose::DWELL_MIN_ERROR_CUT
+        dwell.name(),
+        diagnose::significance_cut(dwell)
     ));
     for cut in [0.0, 0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.15, 0.20, 0.30] {
         line(cut, &|_| cut);
     }
     header(format!(
-        "the {dwell} cut alone, every other candidate at {:.2}",
+        "the {} cut alone, every other candidate at its own ({:.2})",
+        dwell.name(),
         diagnose::MIN_ERROR_CUT
     ));
     for cut in [0.05, 0.06, 0.08, 0.09, 0.10, 0.11, 0.12, 0.125, 0.15, 0.20] {
-        line(cut, &|name| {
-            if name == dwell {
+        line(cut, &|k| {
+            if k == dwell {
                 cut
             } else {
-                diagnose::MIN_ERROR_CUT
+                diagnose::significance_cut(k)
             }
         });
     }

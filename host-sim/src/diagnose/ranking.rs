@@ -834,7 +834,6 @@ fn judge(
         growth_dbic: growth.unwrap_or(f64::NAN),
         twin_rel_err_pct: null.rel_err_pct,
         twin_cut: 1.0 - fit.rel_err_pct / null.rel_err_pct,
-        record_cut: error_cut,
         peak_cut: 1.0 - (peak_rss / null.peak_rss).sqrt(),
         age_at_stick: fit::age_rule(&fit.model),
     });
@@ -901,11 +900,11 @@ pub struct DwellEvidence {
     /// The twin's error [%].
     pub twin_rel_err_pct: f64,
     /// The candidate's cut of the twin's error, `1 - error / twin_rel_err_pct` (a fraction;
-    /// never above `record_cut`): the decision's cut until session 80 (`decision_cut`).
+    /// never above the candidate's `error_cut`, of the current model's error, since the twin
+    /// stands in only where it scores no worse): the decision's cut until session 80
+    /// (`decision_cut`). (Until session 80 this evidence also carried `record_cut`, the cut of
+    /// the current model's error, now the candidate's `error_cut` itself.)
     pub twin_cut: f64,
-    /// The candidate's cut of the current model's error (a fraction): the decision's cut, the
-    /// candidate's `error_cut`.
-    pub record_cut: f64,
     /// The candidate's cut of the breakaway peaks' rms error against the twin's,
     /// `1 - sqrt(RSS_peaks / RSS_peaks,twin)` (a fraction; NaN without peaks). Diagnostic:
     /// where the dwell term acts, whatever the rest of the record leaves.
