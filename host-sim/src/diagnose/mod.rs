@@ -19,10 +19,11 @@
 //! number of parameters and `N_eff = 2 B T` the number of independent samples of a residual
 //! band-limited to the parallel filter's `B` Hz over `T` seconds (the samples themselves are
 //! strongly correlated, so counting them would make everything look significant). An effect is
-//! **significant** when `dBIC > 10` ("very strong" evidence on Kass and Raftery's scale) *and*
-//! the 95 % confidence interval of one of its parameters excludes the value that means "no
-//! effect" (standard errors from the least-squares covariance scaled by `N / N_eff`; for a
-//! grid-searched parameter, the profile interval `N_eff ln(RSS / RSS_min) <= 3.84`).
+//! **significant** when `dBIC > 10` ("very strong" evidence on Kass and Raftery's scale; the
+//! dwell term, which has nulls of its own, `dBIC > 2`: [`min_dbic`]) *and* the 95 % confidence
+//! interval of one of its parameters excludes the value that means "no effect" (standard
+//! errors from the least-squares covariance scaled by `N / N_eff`; for a grid-searched
+//! parameter, the profile interval `N_eff ln(RSS / RSS_min) <= 3.84`).
 
 pub mod across;
 pub mod breakaway;
@@ -340,8 +341,9 @@ pub struct Candidate {
     /// Evidence from the breakaway peaks, included in `delta_bic` (see [`breakaway`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_delta_bic: Option<f64>,
-    /// Detected: the evidence is strong (dBIC > 10, the effect's interval excludes "no effect",
-    /// no caution), whatever the size of its error cut.
+    /// Detected: the evidence is strong (dBIC above [`min_dbic`]: 10, the dwell term's 2 besides
+    /// nulls of its own; the effect's interval excludes "no effect"; no caution), whatever the
+    /// size of its error cut.
     pub detected: bool,
     /// The relative cut of the record's error the decision rule weighs (a fraction; negative
     /// when the candidate is worse): against the current model (see `decision_cut`).
