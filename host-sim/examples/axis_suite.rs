@@ -175,6 +175,15 @@ struct Row {
     dwell_caution: Option<String>,
     /// the numbers the baseline's `dwell_stiction` decision weighs
     dwell: Option<diagnose::DwellEvidence>,
+    /// the dwell trend of the breakaway peaks the baseline leaves unexplained
+    /// (`Breakaway::unexplained_trend`): (dBIC, growth dF \[N\], its 95 % half-width \[N\])
+    baseline_unexplained_trend: Option<(f64, f64, f64)>,
+    /// the baseline's `dwell_stiction` candidate's evidence on the breakaway peaks alone
+    /// (`Candidate::peak_delta_bic`; NaN: none)
+    dwell_peak_dbic: f64,
+    /// where the baseline's `dwell_stiction` term was made significant beyond the measurement
+    /// (`Candidate::beyond_the_measurement`): the Maxwell-slip contact's cut
+    dwell_beyond: Option<f64>,
     /// how often the baseline was replaced by a better start a candidate revealed
     /// (`diagnose::Restart`)
     restarts: usize,
@@ -713,6 +722,9 @@ fn run(
         floor_measured_clock_pct: f64::NAN,
         dwell_caution: None,
         dwell: None,
+        baseline_unexplained_trend: None,
+        dwell_peak_dbic: f64::NAN,
+        dwell_beyond: None,
         without_effect_pct: f64::NAN,
         offset_in_place_pct: f64::NAN,
         nested_check: None,
@@ -820,6 +832,19 @@ fn run(
         .iter()
         .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
         .and_then(|c| c.dwell);
+    row.baseline_unexplained_trend = d
+        .breakaway
+        .unexplained_trend(&d.stages[0].fit.prediction)
+        .map(|t| (t.delta_bic, t.increase_n, t.increase_ci_n));
+    row.dwell_peak_dbic = cands
+        .iter()
+        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
+        .and_then(|c| c.peak_delta_bic)
+        .unwrap_or(f64::NAN);
+    row.dwell_beyond = cands
+        .iter()
+        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
+        .and_then(|c| c.beyond_the_measurement);
     row.restarts = d.stages[0].restarts.len();
     row.settled = d.stages[0].named_where(|c| c.settled_as_stage);
     row.from_table = d.stages[0].named_where(|c| c.from_static_table);

@@ -534,6 +534,9 @@ fn print_candidates(s: &diagnose::Stage) {
                     if let Some(n) = &c.kept_over_larger {
                         println!("   {:<24} -> {n}", "");
                     }
+                    if let Some(why) = c.beyond_note() {
+                        println!("   {:<24} -> {why}", "");
+                    }
                 }
                 if let Some(why) = &c.caution {
                     println!("   {:<24} -> cannot be significant: {why}", "");

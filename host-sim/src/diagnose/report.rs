@@ -706,6 +706,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                 escape(c.kind.name()),
                 c.kept_over_larger
                     .map(|n| format!(" It was {}.", escape(&n.to_string())))
+                    .or_else(|| c.beyond_note().map(|n| format!(" It is {}.", escape(&n))))
                     .unwrap_or_default()
             );
         }
