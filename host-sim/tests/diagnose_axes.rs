@@ -558,6 +558,9 @@ fn a_dwell_term_beyond_the_measurement_that_no_contact_describes_is_named() {
         "{contact_cut}"
     );
     assert!(dwell.significant && dwell.beyond_note().is_some());
+    // the contact that decided it is the one the diagnosis reports
+    let tried = d.contact.as_ref().expect("the contact tried is kept");
+    assert!(!tried.describes && tried.error_cut == contact_cut);
     // the report says why it is significant at that cut
     let html = diagnose::report::html(&d, "axis.csv", None);
     assert!(

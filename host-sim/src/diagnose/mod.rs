@@ -1082,8 +1082,10 @@ pub struct Diagnosis {
     /// ([`contact::check`]): whether a contact with presliding memory and frictional lag
     /// describes what the model leaves. Tried only where the final stage ends in
     /// [`BEYOND_THE_EIGHT`] ([`Self::beyond_the_eight`]: no candidate significant, yet the
-    /// model leaves more than the measurement accounts for); `None` elsewhere, and where the
-    /// model has no friction to replace ([`Self::contact_not_tried`] says which).
+    /// model leaves more than the measurement accounts for), and kept where it decided that the
+    /// final stage's dwell term is significant beyond the measurement
+    /// ([`Candidate::beyond_the_measurement`]); `None` elsewhere, and where the model has no
+    /// friction to replace ([`Self::contact_not_tried`] says which).
     pub contact: Option<contact::ContactCheck>,
     /// Where the diagnosis spent its time.
     pub times: PhaseTimes,
@@ -1278,15 +1280,22 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     let last = &last_stage.fit;
     // the contact is the check of what none of the eight effects describes: tried only where
     // the final stage ends beyond them (where one is significant, the model lacks it, and a
-    // contact fitted in its place would describe the missing effect, not the contact)
+    // contact fitted in its place would describe the missing effect, not the contact); and
+    // kept where it decided that a dwell term is significant beyond the measurement
     let contact = timed(&mut times.contact_s, || {
-        (ending(&p, motion_spread_pct, last_stage) == Ending::BeyondTheEight)
-            .then(|| {
-                contact_tried
-                    .take()
-                    .or_else(|| contact::check(&last.model, &last.prediction, &p, n_eff))
-            })
-            .flatten()
+        match ending(&p, motion_spread_pct, last_stage) {
+            Ending::BeyondTheEight => contact_tried
+                .take()
+                .or_else(|| contact::check(&last.model, &last.prediction, &p, n_eff)),
+            Ending::Significant(_)
+                if last_stage
+                    .first_significant()
+                    .is_some_and(|c| c.beyond_the_measurement.is_some()) =>
+            {
+                contact_tried.take()
+            }
+            _ => None,
+        }
     });
     times.total_s = start.elapsed().as_secs_f64();
     Ok(Diagnosis {
