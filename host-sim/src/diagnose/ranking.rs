@@ -702,7 +702,10 @@ pub const MIN_ERROR_CUT: f64 = 0.20;
 /// since then of the current model's, as every effect's (`decision_cut`): the same rule on
 /// 430 used effect-free records gives 0.10 again (7 false positives; 14 at 0.08). Judged on
 /// never-run sets: 4 false positives of 150 (main's rule 3), dwell right 27 of 40 (main's 21),
-/// no other answer moved (`docs/registrations/s80/prereg.txt`).
+/// no other answer moved (`docs/registrations/s80/prereg.txt`). Where no candidate is
+/// significant, the model leaves more than the measurement accounts for and a Maxwell-slip
+/// contact does not describe what it leaves, a cut of [`super::DWELL_BEYOND_MIN_ERROR_CUT`]
+/// suffices (session 85).
 pub const DWELL_MIN_ERROR_CUT: f64 = 0.10;
 
 /// The evidence against the current model (dBIC, sliding plus the breakaway peaks') an effect
