@@ -824,27 +824,17 @@ fn run(
     row.unexplained = Some(d.unexplained(&d.stages[0]));
     row.unexplained_added = Some(d.unexplained(d.last_stage()));
     row.contact = d.contact.clone();
-    row.dwell_caution = cands
+    let dwell = cands
         .iter()
-        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
-        .and_then(|c| c.caution.clone());
-    row.dwell = cands
-        .iter()
-        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
-        .and_then(|c| c.dwell);
+        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction);
+    row.dwell_caution = dwell.and_then(|c| c.caution.clone());
+    row.dwell = dwell.and_then(|c| c.dwell);
+    row.dwell_peak_dbic = dwell.and_then(|c| c.peak_delta_bic).unwrap_or(f64::NAN);
+    row.dwell_beyond = dwell.and_then(|c| c.beyond_the_measurement);
     row.baseline_unexplained_trend = d
         .breakaway
         .unexplained_trend(&d.stages[0].fit.prediction)
         .map(|t| (t.delta_bic, t.increase_n, t.increase_ci_n));
-    row.dwell_peak_dbic = cands
-        .iter()
-        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
-        .and_then(|c| c.peak_delta_bic)
-        .unwrap_or(f64::NAN);
-    row.dwell_beyond = cands
-        .iter()
-        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
-        .and_then(|c| c.beyond_the_measurement);
     row.restarts = d.stages[0].restarts.len();
     row.settled = d.stages[0].named_where(|c| c.settled_as_stage);
     row.from_table = d.stages[0].named_where(|c| c.from_static_table);

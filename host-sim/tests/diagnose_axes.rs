@@ -519,18 +519,12 @@ fn diagnose_on_issue_axes(effect: &'static str, seed: u64) -> Diagnosis {
     diagnose::diagnose(&rec, "axis.csv", &opts).unwrap()
 }
 
-/// The dwell term is detected on positive evidence against the current model
-/// (`diagnose::DWELL_MIN_DBIC`), where every other effect needs very strong evidence
-/// (`diagnose::MIN_DBIC`): its own nulls (growth with the rest time against its twin, the 10 %
-/// cut) still hold it. Dwell record 34907 (issue's axes, session 81): the term cuts the error by
-/// 16 % and shows growth (9.7), but with few independent samples its dBIC is 3.4; until session
-/// 81 it was not named.
 /// Where the model leaves more than the measurement accounts for and a Maxwell-slip contact in
 /// the bristle's place does not describe what it leaves, a detected dwell term is significant
 /// from a cut of `diagnose::DWELL_BEYOND_MIN_ERROR_CUT` (session 85). Dwell record 34996
 /// (issue's axes, session 84's D10): the baseline leaves 3.4x what the measurement accounts for
 /// (the generator's dwell clock runs on the contact's slip, which 1 um counts do not show), the
-/// term cuts 9 % of it, under the 10 % cut elsewhere, and the contact cuts nothing. Its twin,
+/// term cuts 9 % of it, under the 10 % cut elsewhere, and the contact cuts 2 %. Its twin,
 /// the Maxwell-slip contact that is not named dwell, is
 /// `a_contact_that_is_not_lugre_is_not_called_explained` (its dwell term also cuts over 4 %).
 #[test]
@@ -580,6 +574,12 @@ fn a_dwell_term_beyond_the_measurement_that_no_contact_describes_is_named() {
         .all(|c| c.beyond_the_measurement.is_none() || c.kind == EffectKind::DwellStiction));
 }
 
+/// The dwell term is detected on positive evidence against the current model
+/// (`diagnose::DWELL_MIN_DBIC`), where every other effect needs very strong evidence
+/// (`diagnose::MIN_DBIC`): its own nulls (growth with the rest time against its twin, the 10 %
+/// cut) still hold it. Dwell record 34907 (issue's axes, session 81): the term cuts the error by
+/// 16 % and shows growth (9.7), but with few independent samples its dBIC is 3.4; until session
+/// 81 it was not named.
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_dwell_term_with_positive_evidence_and_nulls_of_its_own_is_named() {
