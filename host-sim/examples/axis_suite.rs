@@ -184,6 +184,10 @@ struct Row {
     /// where the baseline's `dwell_stiction` term was made significant beyond the measurement
     /// (`Candidate::beyond_the_measurement`): the Maxwell-slip contact's cut
     dwell_beyond: Option<f64>,
+    /// where the baseline's `dwell_stiction` term, first significant by main's cut, was held
+    /// because the Maxwell-slip contact describes the excess better
+    /// (`Candidate::held_by_contact`): the contact's cut
+    dwell_held: Option<f64>,
     /// how often the baseline was replaced by a better start a candidate revealed
     /// (`diagnose::Restart`)
     restarts: usize,
@@ -725,6 +729,7 @@ fn run(
         baseline_unexplained_trend: None,
         dwell_peak_dbic: f64::NAN,
         dwell_beyond: None,
+        dwell_held: None,
         without_effect_pct: f64::NAN,
         offset_in_place_pct: f64::NAN,
         nested_check: None,
@@ -831,6 +836,7 @@ fn run(
     row.dwell = dwell.and_then(|c| c.dwell);
     row.dwell_peak_dbic = dwell.and_then(|c| c.peak_delta_bic).unwrap_or(f64::NAN);
     row.dwell_beyond = dwell.and_then(|c| c.beyond_the_measurement);
+    row.dwell_held = dwell.and_then(|c| c.held_by_contact);
     row.baseline_unexplained_trend = d
         .breakaway
         .unexplained_trend(&d.stages[0].fit.prediction)

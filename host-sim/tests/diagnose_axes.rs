@@ -508,6 +508,68 @@ fn the_dwell_renewal_distance_is_searched_between_its_grid_points() {
     );
 }
 
+/// Main's dwell rule gated by the contact check (session 86): where the dwell term is the
+/// first significant candidate by its 10 % cut, the model leaves more than the measurement
+/// accounts for, and a Maxwell-slip contact in the bristle's place describes what the model
+/// leaves, cutting more than every significant candidate, they are all held. Effect-free
+/// record 4552 (issue's axes, a Maxwell-slip contact under them, session 85's M11): main named
+/// dwell there at a 19 % cut, with asymmetry significant too (21 %); the contact cuts 89 %.
+/// The stage then ends beyond the eight and the diagnosis reports the contact that held them. Its twin, a true dwell record the contact does not describe, is
+/// `a_dwell_term_beyond_the_measurement_that_no_contact_describes_is_named`.
+#[test]
+fn a_dwell_term_that_a_contact_describes_better_is_held() {
+    use generators::axis::{random_record_of, ContactKind, Family};
+    let (text, _) = random_record_of(
+        None,
+        4552,
+        Sensors::default(),
+        ContactKind::Maxwell,
+        Family::A,
+        Axes::Issue,
+    );
+    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+    let opts = Options {
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let base = &d.stages[0];
+    let dwell = base
+        .candidates
+        .iter()
+        .find(|c| c.kind == EffectKind::DwellStiction)
+        .unwrap();
+    // the record exercises the rule: detected and over main's cut, beyond the measurement
+    assert!(
+        dwell.detected && dwell.error_cut >= diagnose::DWELL_MIN_ERROR_CUT,
+        "{}",
+        report(&d)
+    );
+    assert!(d.unexplained(base).beyond_measurement(), "{}", report(&d));
+    let contact_cut = dwell.held_by_contact.expect("held by the contact");
+    assert!(contact_cut > dwell.error_cut && contact_cut >= diagnose::contact::CONTACT_MIN_CUT);
+    assert!(!dwell.significant && dwell.held_note().is_some() && dwell.near_cut().is_none());
+    // every candidate it held cut less than the contact, and none is left significant
+    let held: Vec<_> = base
+        .candidates
+        .iter()
+        .filter(|c| c.held_by_contact.is_some())
+        .collect();
+    assert!(held.len() >= 2, "{}", report(&d));
+    assert!(held
+        .iter()
+        .all(|c| c.held_by_contact == Some(contact_cut) && c.error_cut < contact_cut));
+    assert_eq!(first_significant(&base.candidates), None, "{}", report(&d));
+    // the contact that held it is the one reported: it describes what the model leaves
+    let tried = d.contact.as_ref().expect("the contact tried is kept");
+    assert!(tried.describes && tried.error_cut == contact_cut);
+    let html = diagnose::report::html(&d, "axis.csv", None);
+    assert!(
+        html.contains("describes what it leaves better"),
+        "the report names the rule"
+    );
+}
+
 /// [`diagnose`] of a record on the axes issue 9 describes (`Axes::Issue`).
 fn diagnose_on_issue_axes(effect: &'static str, seed: u64) -> Diagnosis {
     let (text, _) = record_on_axes(Some(effect), seed, Axes::Issue);

@@ -538,6 +538,9 @@ fn print_candidates(s: &diagnose::Stage) {
                         println!("   {:<24} -> {why}", "");
                     }
                 }
+                if let Some(why) = c.held_note() {
+                    println!("   {:<24} -> {why}", "");
+                }
                 if let Some(why) = &c.caution {
                     println!("   {:<24} -> cannot be significant: {why}", "");
                 }

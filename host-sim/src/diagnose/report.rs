@@ -371,9 +371,10 @@ fn verdict(c: &super::Candidate) -> String {
     let mut v = match &c.skipped {
         Some(w) => format!("skipped: {w}"),
         None if c.significant => "SIGNIFICANT".into(),
-        None => match &c.caution {
-            Some(why) => format!("not significant: {why}"),
-            None => "not significant".into(),
+        None => match (&c.caution, c.held_note()) {
+            (Some(why), _) => format!("not significant: {why}"),
+            (None, Some(why)) => why,
+            (None, None) => "not significant".into(),
         },
     };
     if c.fitted_before_restart {
@@ -710,6 +711,17 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
                     .unwrap_or_default()
             );
         }
+    } else if let Some(c) = first
+        .candidates
+        .iter()
+        .find(|c| c.held_by_contact.is_some())
+        .filter(|_| d.stages.len() == 1)
+    {
+        out += &format!(
+            "<p>No effect is significant. The <b>{}</b> term is {}.</p>",
+            escape(c.kind.name()),
+            escape(&c.held_note().unwrap_or_default()),
+        );
     } else if let Some((c, why)) = first.near_miss().filter(|_| d.stages.len() == 1) {
         out += &format!(
             "<p>No effect is significant. The leading candidate, <b>{}</b>, is {}.</p>",
