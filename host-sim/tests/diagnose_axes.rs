@@ -10,8 +10,8 @@
 mod generators;
 
 use generators::axis::{
-    random_record, random_record_with, record_on_axes, truth_error_pct, Actuator, Axes, Axis,
-    Sensors,
+    random_record, random_record_of, random_record_with, record_on_axes, truth_error_pct, Actuator,
+    Axes, Axis, ContactKind, Family, Sensors,
 };
 use host_sim::diagnose::inverse::{Prepared, Protocol};
 use host_sim::diagnose::{self, Diagnosis, Options};
@@ -50,6 +50,15 @@ fn rows(text: &str) -> Vec<Vec<f64>> {
 /// The first significant candidate's name, if any.
 fn first_significant(c: &[diagnose::Candidate]) -> Option<&'static str> {
     c.iter().find(|c| c.significant).map(|c| c.kind.name())
+}
+
+/// The `dwell_stiction` candidate of a ranked stage.
+fn dwell_candidate(stage: &diagnose::Stage) -> &diagnose::Candidate {
+    stage
+        .candidates
+        .iter()
+        .find(|c| c.kind == EffectKind::DwellStiction)
+        .expect("every ranked stage scores the dwell term")
 }
 
 fn report(d: &Diagnosis) -> String {
@@ -518,27 +527,9 @@ fn the_dwell_renewal_distance_is_searched_between_its_grid_points() {
 /// `a_dwell_term_beyond_the_measurement_that_no_contact_describes_is_named`.
 #[test]
 fn a_dwell_term_that_a_contact_describes_better_is_held() {
-    use generators::axis::{random_record_of, ContactKind, Family};
-    let (text, _) = random_record_of(
-        None,
-        4552,
-        Sensors::default(),
-        ContactKind::Maxwell,
-        Family::A,
-        Axes::Issue,
-    );
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let d = diagnose_issue_record(None, 4552, ContactKind::Maxwell);
     let base = &d.stages[0];
-    let dwell = base
-        .candidates
-        .iter()
-        .find(|c| c.kind == EffectKind::DwellStiction)
-        .unwrap();
+    let dwell = dwell_candidate(base);
     // the record exercises the rule: detected and over main's cut, beyond the measurement
     assert!(
         dwell.detected && dwell.error_cut >= diagnose::DWELL_MIN_ERROR_CUT,
@@ -572,7 +563,23 @@ fn a_dwell_term_that_a_contact_describes_better_is_held() {
 
 /// [`diagnose`] of a record on the axes issue 9 describes (`Axes::Issue`).
 fn diagnose_on_issue_axes(effect: &'static str, seed: u64) -> Diagnosis {
-    let (text, _) = record_on_axes(Some(effect), seed, Axes::Issue);
+    diagnose_issue_record(Some(effect), seed, ContactKind::LuGre)
+}
+
+/// [`diagnose`] of a record on the axes issue 9 describes, with `contact` under them.
+fn diagnose_issue_record(
+    effect: Option<&'static str>,
+    seed: u64,
+    contact: ContactKind,
+) -> Diagnosis {
+    let (text, _) = random_record_of(
+        effect,
+        seed,
+        Sensors::default(),
+        contact,
+        Family::A,
+        Axes::Issue,
+    );
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
     let opts = Options {
         skip_final_ranking: true,
@@ -593,11 +600,7 @@ fn diagnose_on_issue_axes(effect: &'static str, seed: u64) -> Diagnosis {
 fn a_dwell_term_beyond_the_measurement_that_no_contact_describes_is_named() {
     let d = diagnose_on_issue_axes("dwell_stiction", 34996);
     let base = &d.stages[0];
-    let dwell = base
-        .candidates
-        .iter()
-        .find(|c| c.kind == EffectKind::DwellStiction)
-        .unwrap();
+    let dwell = dwell_candidate(base);
     // the record exercises the rule: between the two cuts, beyond the measurement
     assert!(
         dwell.error_cut >= diagnose::DWELL_BEYOND_MIN_ERROR_CUT
@@ -1104,7 +1107,7 @@ fn a_contact_that_is_not_lugre_is_not_called_explained_on_a_force_actuated_axis(
 }
 
 fn not_lugre_is_not_called_explained(seed: u64) {
-    use generators::axis::{random_record_on, ContactKind};
+    use generators::axis::random_record_on;
     let mut ratios = Vec::new();
     for contact in [ContactKind::LuGre, ContactKind::Maxwell] {
         let (text, axis) = random_record_on(None, seed, Sensors::default(), contact);

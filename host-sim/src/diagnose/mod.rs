@@ -892,13 +892,13 @@ fn ending(p: &Prepared, motion_spread_pct: f64, stage: &Stage) -> Ending {
 /// cuts -43..2 % on the dwell records the rule names (`docs/registrations/s85/prereg.txt`).
 pub const DWELL_BEYOND_MIN_ERROR_CUT: f64 = 0.04;
 
-/// The dwell term's cut beyond the measurement ([`DWELL_BEYOND_MIN_ERROR_CUT`]) applied to a
-/// ranked stage: where no candidate is significant and the model leaves more than the
-/// measurement accounts for ([`Ending::BeyondTheEight`]), a detected `dwell_stiction` term
-/// cutting at least that much is made significant if a Maxwell-slip contact in the bristle's
-/// place ([`contact::check`]) does not describe what the model leaves. Returns the contact
-/// check where it ran (the final model's, if this stage stays the last, reused).
-fn dwell_beyond_the_measurement(
+/// The contact check's say on a ranked stage's dwell term: where no candidate is significant
+/// and the model leaves more than the measurement accounts for, the lower cut
+/// ([`dwell_beyond_the_measurement`], session 85); where the dwell term leads the significant
+/// candidates, the hold ([`dwell_held_by_contact`], session 86); elsewhere nothing. Returns the
+/// contact check where a rule ran it and the stage ends beyond the eight or its dwell term was
+/// made significant by it (the final model's, if this stage stays the last, reused).
+fn dwell_and_the_contact(
     stage: &mut Stage,
     p: &Prepared,
     motion_spread_pct: f64,
@@ -906,20 +906,44 @@ fn dwell_beyond_the_measurement(
     times: &mut PhaseTimes,
 ) -> Option<contact::ContactCheck> {
     match ending(p, motion_spread_pct, stage) {
-        Ending::BeyondTheEight => {}
+        Ending::BeyondTheEight => dwell_beyond_the_measurement(stage, p, n_eff, times),
         Ending::Significant(EffectKind::DwellStiction) => {
-            return dwell_held_by_contact(stage, p, motion_spread_pct, n_eff, times)
+            dwell_held_by_contact(stage, p, motion_spread_pct, n_eff, times)
         }
-        _ => return None,
+        _ => None,
     }
+}
+
+/// The Maxwell-slip contact fitted in the place of `stage`'s bristle ([`contact::check`]), its
+/// time counted with the contact's.
+fn stage_contact(
+    stage: &Stage,
+    p: &Prepared,
+    n_eff: f64,
+    times: &mut PhaseTimes,
+) -> Option<contact::ContactCheck> {
+    timed(&mut times.contact_s, || {
+        contact::check(&stage.fit.model, &stage.fit.prediction, p, n_eff)
+    })
+}
+
+/// The dwell term's cut beyond the measurement ([`DWELL_BEYOND_MIN_ERROR_CUT`]) on a ranked
+/// stage that ends beyond the eight ([`Ending::BeyondTheEight`]: no candidate significant, the
+/// model leaving more than the measurement accounts for): a detected `dwell_stiction` term
+/// cutting at least that much is made significant if a Maxwell-slip contact in the bristle's
+/// place does not describe what the model leaves. Returns the contact check where it ran.
+fn dwell_beyond_the_measurement(
+    stage: &mut Stage,
+    p: &Prepared,
+    n_eff: f64,
+    times: &mut PhaseTimes,
+) -> Option<contact::ContactCheck> {
     let i = stage.candidates.iter().position(|c| {
         c.kind == EffectKind::DwellStiction
             && c.detected
             && c.error_cut >= DWELL_BEYOND_MIN_ERROR_CUT
     })?;
-    let check = timed(&mut times.contact_s, || {
-        contact::check(&stage.fit.model, &stage.fit.prediction, p, n_eff)
-    })?;
+    let check = stage_contact(stage, p, n_eff, times)?;
     if !check.describes {
         let c = &mut stage.candidates[i];
         c.significant = true;
@@ -953,9 +977,7 @@ fn dwell_held_by_contact(
     if !unexplained(p, motion_spread_pct, &stage.fit.prediction).beyond_measurement() {
         return None;
     }
-    let check = timed(&mut times.contact_s, || {
-        contact::check(&stage.fit.model, &stage.fit.prediction, p, n_eff)
-    })?;
+    let check = stage_contact(stage, p, n_eff, times)?;
     let best_called = stage
         .candidates
         .iter()
@@ -1156,7 +1178,8 @@ pub struct Diagnosis {
     /// [`BEYOND_THE_EIGHT`] ([`Self::beyond_the_eight`]: no candidate significant, yet the
     /// model leaves more than the measurement accounts for), and kept where it decided that the
     /// final stage's dwell term is significant beyond the measurement
-    /// ([`Candidate::beyond_the_measurement`]); `None` elsewhere, and where the model has no
+    /// ([`Candidate::beyond_the_measurement`]) or held its candidates
+    /// ([`Candidate::held_by_contact`]); `None` elsewhere, and where the model has no
     /// friction to replace ([`Self::contact_not_tried`] says which).
     pub contact: Option<contact::ContactCheck>,
     /// Where the diagnosis spent its time.
@@ -1309,11 +1332,11 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         brk: &brk,
         tables: &tables,
     };
-    // the contact check where the dwell term's cut beyond the measurement ran it, on the
+    // the contact check where a dwell rule ran it (`dwell_and_the_contact`), on the
     // last stage's model (reused below where that stage stays the last and ends beyond)
     let mut first = stage(None, base, &on, true, &mut times);
     let mut contact_tried =
-        dwell_beyond_the_measurement(&mut first, &p, motion_spread_pct, n_eff, &mut times);
+        dwell_and_the_contact(&mut first, &p, motion_spread_pct, n_eff, &mut times);
     let mut stages = vec![first];
     // the effects asked for, then (with `auto`) the first significant candidate each time
     for k in 0..add.len() + opts.auto {
@@ -1344,8 +1367,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         });
         let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);
         let mut next = stage(Some(e), fit, &on, rank, &mut times);
-        contact_tried =
-            dwell_beyond_the_measurement(&mut next, &p, motion_spread_pct, n_eff, &mut times);
+        contact_tried = dwell_and_the_contact(&mut next, &p, motion_spread_pct, n_eff, &mut times);
         stages.push(next);
     }
     let last_stage = &stages[stages.len() - 1];
@@ -1353,9 +1375,9 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
     // the contact is the check of what none of the eight effects describes: tried only where
     // the final stage ends beyond them (where one is significant, the model lacks it, and a
     // contact fitted in its place would describe the missing effect, not the contact); and
-    // kept where it decided that a dwell term is significant beyond the measurement
-    // (`contact_tried` is the last stage's: where it is set, the stage either still ends
-    // beyond the eight or its dwell term was made significant by it)
+    // kept where it decided that a dwell term is significant beyond the measurement, or held
+    // the candidates of a dwell-led stage (`contact_tried` is the last stage's: where it is
+    // set, the stage either ends beyond the eight or its dwell term was made significant by it)
     let contact = timed(&mut times.contact_s, || {
         contact_tried.or_else(|| {
             (ending(&p, motion_spread_pct, last_stage) == Ending::BeyondTheEight)
