@@ -164,6 +164,9 @@ mod tables {
         /// absent in files written before session 67 (their age accumulated)
         #[serde(default)]
         pub age_at_stick: crate::friction::DwellAge,
+        /// absent in files written before session 89 (their clock read the body's speed)
+        #[serde(default)]
+        pub clock: crate::friction::DwellClock,
     }
     fn default_renewal() -> f64 {
         super::DEFAULT_RENEWAL_DISTANCE_M
@@ -272,6 +275,7 @@ impl ParamFile {
                     stick_velocity_m_per_s: d.stick_velocity,
                     renewal_distance_m: d.renewal_distance,
                     age_at_stick: d.age_at_stick,
+                    clock: d.clock,
                 }),
             },
             fit: FitSection::default(),
@@ -474,6 +478,7 @@ impl ParamFile {
                 stick_velocity: d.stick_velocity_m_per_s,
                 renewal_distance: d.renewal_distance_m,
                 age_at_stick: d.age_at_stick,
+                clock: d.clock,
             });
         }
         Ok(FrictionModel { params, effects })

@@ -6,7 +6,8 @@
 //!   body-speed clock (stick under 0.05 mm/s; the speed over 1..100 ms; forgotten over a
 //!   renewal distance or at once), scored like the floor (session 19: none comes near it);
 //! - `fit [FIRST_SEED] [N]`: our dwell term refitted (linear parameters) at every point of a
-//!   grid of time constant, renewal distance and stick speed, best point per stick speed;
+//!   grid of time constant, renewal distance and stick speed, best point per stick speed, age
+//!   rule and clock (the body's speed or the contact's slip);
 //! - `gaps SEED [STICK] [WINDOW] [--restart]`: where one body-speed clock parts from the
 //!   record's, the 25 stretches of 50 ms that differ most in the dwell force where the axis
 //!   moves.
@@ -20,7 +21,7 @@ use generators::axis::{dwell_record, Axes, Axis, DwellTrace, Shape};
 use host_sim::diagnose::inverse::Prepared;
 use host_sim::diagnose::{self, fit, Options};
 use host_sim::record::Record;
-use lugre_servo::friction::effects::{DwellAge, DwellStiction};
+use lugre_servo::friction::effects::{DwellAge, DwellClock, DwellStiction};
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -114,9 +115,10 @@ fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
         return s;
     }
     let n_eff = fit::effective_samples(p, 20.0);
-    for (stick, age_at_stick) in [2e-5, 5e-5, 2e-4]
+    for (stick, age_at_stick, clock) in [2e-5, 5e-5, 2e-4]
         .into_iter()
         .flat_map(|v| DwellAge::ALL.map(|a| (v, a)))
+        .flat_map(|(v, a)| DwellClock::ALL.map(|c| (v, a, c)))
     {
         let mut best = (f64::INFINITY, 0.0, 0.0, 0.0);
         for tau in [0.05, 0.1, 0.2, 0.35, 0.5, 1.0, 2.0, 5.0] {
@@ -128,6 +130,7 @@ fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
                     stick_velocity: stick,
                     renewal_distance: renewal,
                     age_at_stick,
+                    clock,
                 });
                 let f = fit::refit(&m, p, None, n_eff);
                 if f.rel_err_pct < best.0 {
@@ -143,9 +146,10 @@ fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
         }
         let (err, tau, renewal, increase) = best;
         s += &format!(
-            "  stick {stick:.0e}, age {}: best {err:.2} % at tau {tau} s, renewal {renewal:.0e} m, \
-             dF {increase:.0} N\n",
-            age_at_stick.name()
+            "  stick {stick:.0e}, age {}, clock {}: best {err:.2} % at tau {tau} s, renewal \
+             {renewal:.0e} m, dF {increase:.0} N\n",
+            age_at_stick.name(),
+            clock.name()
         );
     }
     s

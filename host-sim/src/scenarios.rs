@@ -63,6 +63,7 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::R
                 stick_velocity: 2e-4,
                 renewal_distance: crate::params_file::DEFAULT_RENEWAL_DISTANCE_M,
                 age_at_stick: fx::DwellAge::Accumulates,
+                clock: fx::DwellClock::BodySpeed,
             })
         }
     }

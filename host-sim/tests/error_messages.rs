@@ -6,7 +6,7 @@ use host_sim::diagnose::{self, across, Options};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
 use host_sim::{identify, scenarios, timing};
-use lugre_servo::friction::DwellAge;
+use lugre_servo::friction::{DwellAge, DwellClock};
 use std::path::Path;
 
 const GOOD: &str = "[lugre]\nbristle_stiffness_n_per_m = 3.9e9\nbristle_damping_n_s_per_m = 200.0\nviscous_coefficient_n_s_per_m = 48900.0\ncoulomb_force_n = 506.0\nstatic_force_n = 632.0\nstribeck_velocity_m_per_s = 0.005\n[axis]\nmoving_mass_kg = 200.0\n";
@@ -150,6 +150,27 @@ fn parameter_file_messages() {
     let unknown = read(&format!("{GOOD}{dwell}age_at_stick = \"resets\"\n"));
     assert!(
         unknown.starts_with("DIR/p.toml:") && unknown.contains("resets"),
+        "{unknown}"
+    );
+    // the clock: absent (files before session 89) the body's speed; the contact's slip
+    // written by name and read back; a clock it does not know is an error, never a default
+    assert_eq!(
+        m.effects.dwell_stiction.map(|d| d.clock),
+        Some(DwellClock::BodySpeed)
+    );
+    let mut on_slip = restarting;
+    if let Some(d) = on_slip.effects.dwell_stiction.as_mut() {
+        d.clock = DwellClock::ContactSlip;
+    }
+    let written = dir.path().join("slip.toml");
+    ParamFile::new(&on_slip, 200.0).write(&written).unwrap();
+    assert!(std::fs::read_to_string(&written)
+        .unwrap()
+        .contains("clock = \"contact_slip\""));
+    assert_eq!(ParamFile::read(&written).unwrap().1, on_slip);
+    let unknown = read(&format!("{GOOD}{dwell}clock = \"wall\"\n"));
+    assert!(
+        unknown.starts_with("DIR/p.toml:") && unknown.contains("wall"),
         "{unknown}"
     );
     // the static asymmetry ratio: checked like the others; absent (older files) it is rc

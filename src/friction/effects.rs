@@ -14,7 +14,7 @@
 //! | `temperature_dependence` | `sigma2 -> sigma2 eta`, `eta = exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs`, `vs -> vs eta^-q` (the Stribeck curve a function of the Hersey number `eta v`) |
 //! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
 //! | `viscous_power` | `F_visc = sigma2 v_r sign(v) |v / v_r|^delta` (equals `sigma2 v` at `v = v_r`) |
-//! | `dwell_stiction` | `Fs += dF (1 - exp(-t_dwell / tau))`, `t_dwell` = time stuck (carried on from the last slide or restarted at each stick: [`DwellAge`]), forgotten as `exp(-s / D)` over the slid distance `s` |
+//! | `dwell_stiction` | `Fs += dF (1 - exp(-t_dwell / tau))`, `t_dwell` = time stuck (carried on from the last slide or restarted at each stick: [`DwellAge`]; stuck: the body's speed or the contact's slip under a threshold, [`DwellClock`]), forgotten as `exp(-s / D)` over the slid distance `s` |
 
 use num_traits::Float;
 
@@ -299,7 +299,8 @@ pub struct DwellStiction<T> {
     pub max_increase: T,
     /// `tau` \[s\] > 0.
     pub time_constant: T,
-    /// Below this speed \[m/s\] the axis counts as stuck and the dwell timer runs.
+    /// Below this speed \[m/s\] (the body's or the contact's slip, as `clock` says) the axis
+    /// counts as stuck and the dwell timer runs.
     pub stick_velocity: T,
     /// `D` \[m\] > 0: once the axis slides, the aged time is forgotten over this distance
     /// (`t_dwell` decays as `exp(-s / D)` along the slid distance `s`): the junctions that grew
@@ -309,6 +310,41 @@ pub struct DwellStiction<T> {
     /// What a new stick does to the age: carry on from what the last slide left of it, or
     /// start again at zero.
     pub age_at_stick: DwellAge,
+    /// Whose speed tells a stick, and how far the contact slid: the body's or the contact's.
+    pub clock: DwellClock,
+}
+
+/// What `dwell_stiction`'s clock reads as the speed that tells a stick from a slide, and
+/// integrates as the slid distance that renews the junctions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "params-file",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "snake_case")
+)]
+pub enum DwellClock {
+    /// The body's speed (the step's mean velocity): a stick is a stop of the axis (the law
+    /// before session 89).
+    #[default]
+    BodySpeed,
+    /// The contact's slip `|v - dz/dt|`, the part of the body's speed the bristle does not
+    /// take up by deflecting (the last step's deflection rate: the step's own is not known
+    /// before its levels are). A reversal the bristle rides through in pre-sliding is a
+    /// stick of the contact while the body moves: the junctions age there as at a stop.
+    ContactSlip,
+}
+
+impl DwellClock {
+    /// Both clocks, the long-standing one first.
+    pub const ALL: [DwellClock; 2] = [DwellClock::BodySpeed, DwellClock::ContactSlip];
+
+    /// The clock's name in parameter files and reports.
+    pub const fn name(self) -> &'static str {
+        match self {
+            DwellClock::BodySpeed => "body_speed",
+            DwellClock::ContactSlip => "contact_slip",
+        }
+    }
 }
 
 /// What a new stick does to `dwell_stiction`'s age `t_dwell` (the rule the contact's junctions
@@ -517,6 +553,7 @@ impl<T: Float> Effects<T> {
                 stick_velocity: c(d.stick_velocity),
                 renewal_distance: c(d.renewal_distance),
                 age_at_stick: d.age_at_stick,
+                clock: d.clock,
             }),
         }
     }
@@ -622,6 +659,7 @@ pub(crate) fn every_effect() -> Effects<f64> {
         stick_velocity: 1e-4,
         renewal_distance: 1e-4,
         age_at_stick: DwellAge::Accumulates,
+        clock: DwellClock::BodySpeed,
     });
     all
 }

@@ -450,7 +450,10 @@ impl<T: ModelFloat> FrictionModel<T> {
             // Timer runs while stuck (from zero at each stick when the age restarts) and is
             // forgotten over the renewal distance once the axis slides (a distance that is
             // zero, negative or not a number forgets at once).
-            let speed = mean_velocity.abs();
+            let speed = match d.clock {
+                super::DwellClock::BodySpeed => mean_velocity.abs(),
+                super::DwellClock::ContactSlip => (mean_velocity - s.deflection_rate).abs(),
+            };
             if speed < d.stick_velocity {
                 if s.sliding && d.age_at_stick == super::DwellAge::Restarts {
                     s.dwell_time = T::zero();
@@ -663,6 +666,7 @@ mod tests {
             stick_velocity: 1e-4,
             renewal_distance: 1e-3,
             age_at_stick: crate::friction::DwellAge::Accumulates,
+            clock: crate::friction::DwellClock::BodySpeed,
         });
         let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
         for i in 0..4000 {
@@ -908,6 +912,7 @@ mod tests {
                 stick_velocity: 1e-4,
                 renewal_distance: 1e-4,
                 age_at_stick: crate::friction::DwellAge::Accumulates,
+                clock: crate::friction::DwellClock::BodySpeed,
             }),
         };
         // the same effects at other levels (a refined model)
@@ -1127,8 +1132,48 @@ mod tests {
             stick_velocity: 1e-4,
             renewal_distance: 1e-3,
             age_at_stick: crate::friction::DwellAge::Accumulates,
+            clock: crate::friction::DwellClock::BodySpeed,
         });
         m
+    }
+
+    /// A body that oscillates inside the bristle's pre-sliding range (50 um against a
+    /// deflection at breakaway of 4 mm, up to 1 mm/s, twelve reversals in 2 s) never stops,
+    /// yet its contact never slides: the contact's clock ages the junctions through the whole
+    /// oscillation, the body's restarts at every reversal.
+    #[test]
+    fn the_contact_slip_clock_ages_through_reversals_ridden_in_pre_sliding() {
+        use crate::friction::{DwellAge, DwellClock};
+        let age_on = |clock: DwellClock| {
+            let mut m =
+                FrictionModel::plain(LugreParams::new(1e5, 0.0, 0.0, 300.0, 400.0, 0.01).unwrap());
+            m.effects.dwell_stiction = Some(DwellStiction {
+                max_increase: 100.0,
+                time_constant: 1.0,
+                stick_velocity: 1e-4,
+                renewal_distance: 1e-3,
+                age_at_stick: DwellAge::Restarts,
+                clock,
+            });
+            let (amplitude, omega, dt) = (5e-5, 20.0, 1e-3);
+            let mut s = FrictionState::default();
+            let mut oldest: f64 = 0.0;
+            for k in 0..2000 {
+                let v = amplitude * omega * (omega * k as f64 * dt).cos();
+                m.step(&mut s, v, &REF, dt);
+                oldest = oldest.max(s.dwell_time);
+            }
+            (s.dwell_time, oldest)
+        };
+        let (slip_end, _) = age_on(DwellClock::ContactSlip);
+        let (body_end, body_oldest) = age_on(DwellClock::BodySpeed);
+        // stuck from the second step on (the first reads the slip of a bristle at rest)
+        assert!((slip_end - 1.999).abs() < 1e-9, "{slip_end}");
+        // the body's speed is under 0.1 mm/s for 5 ms about each reversal only
+        assert!(
+            body_oldest < 0.02 && body_end < 0.02,
+            "{body_oldest} {body_end}"
+        );
     }
 
     #[test]
@@ -1291,6 +1336,7 @@ mod tests {
             stick_velocity: 1e-4,
             renewal_distance: 1e-3,
             age_at_stick: crate::friction::DwellAge::Accumulates,
+            clock: crate::friction::DwellClock::BodySpeed,
         });
         let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
         let mut longest_rest: f64 = 0.0;

@@ -1059,6 +1059,7 @@ mod tests {
             stick_velocity: 1e-4,
             renewal_distance: 1e-4,
             age_at_stick: lugre_servo::friction::DwellAge::Accumulates,
+            clock: lugre_servo::friction::DwellClock::BodySpeed,
         });
         for m in [plain, dwell] {
             let split = m.simulate(&p);

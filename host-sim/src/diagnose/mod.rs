@@ -68,8 +68,9 @@ pub struct EffectInfo {
     /// A second shape parameter, its name and grid: the nonlinear one is searched afresh at
     /// each of its values (see [`fit::with_shape`]), and once more between them, at the
     /// vertex in ln of the best value and its neighbours (`shape_vertex_ln`). All of that
-    /// is done under each of the effect's rules ([`fit::age_rules`]: the dwell's age at a
-    /// new stick), and the best of them is kept.
+    /// is done under the effect's rule ([`fit::rules`]: the dwell's age at a new stick and
+    /// whose speed tells a stick), chosen first where there are several by a coarser pass of
+    /// every rule (every other value of the grid, at each shape value).
     pub shape: Option<(&'static str, &'static [f64])>,
     /// Where the nonlinear parameter is a model order (the cosine terms of
     /// `position_dependence`): how many of its grid's orders are tried first, the rest only
@@ -585,14 +586,21 @@ impl Candidate {
                     q.name, q.value, q.ci_low, q.ci_high
                 )
             }))
-            // the dwell candidate's age rule, which the data chose (only its own: a model that
-            // carries a dwell term from an earlier stage has one in every candidate)
+            // the dwell candidate's rule, which the data chose, under the parameter file's keys
+            // (only its own: a model that carries a dwell term from an earlier stage has one in
+            // every candidate)
             .chain(
                 self.fit
                     .as_ref()
                     .filter(|_| self.kind == EffectKind::DwellStiction)
-                    .and_then(|f| fit::age_rule(&f.model))
-                    .map(|a| format!("age_at_stick = {}", a.name())),
+                    .and_then(|f| fit::dwell_rule(&f.model))
+                    .into_iter()
+                    .flat_map(|r| {
+                        [
+                            format!("age_at_stick = {}", r.age.name()),
+                            format!("clock = {}", r.clock.name()),
+                        ]
+                    }),
             )
             .collect()
     }
@@ -1723,6 +1731,7 @@ mod search_edge_tests {
             stick_velocity: 2e-4,
             renewal_distance,
             age_at_stick: fx::DwellAge::Accumulates,
+            clock: fx::DwellClock::BodySpeed,
         });
         model(e)
     }

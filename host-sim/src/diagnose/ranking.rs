@@ -6,7 +6,8 @@
 //! of an added effect.
 
 use super::*;
-use lugre_servo::friction::DwellAge;
+use fit::DwellRule;
+use lugre_servo::friction::{DwellAge, DwellClock};
 
 /// How many leading candidates a stage's ranking re-judges after their nonlinear parameters
 /// have moved (usize::MAX: all). Three gave the same answers on the 110 records of never-run
@@ -526,6 +527,10 @@ fn rank_among(
 /// A profile over an effect's second shape parameter: (value, residual sum of squares).
 type ShapeProfile = Vec<(f64, f64)>;
 
+/// A point of the first pass over an effect's rules: the rule, the second shape parameter's
+/// value, the nonlinear parameter's value, and there the grid objective and the quick fit.
+type RulePoint = (Option<DwellRule>, Option<f64>, f64, (f64, Fit));
+
 fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
     let (p, brk, n_eff) = (on.fitting.p, on.brk, on.fitting.n_eff);
     let mut cand = Candidate {
@@ -538,26 +543,59 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
     let (fit, nonlinear_ci) = match info.nonlinear {
         Some((name, grid, null)) => {
             // the nonlinear parameter's grid, at each value of the second shape parameter,
-            // under each of the effect's rules (the dwell's age at a new stick)
+            // under the effect's rule (the dwell's age at a new stick and its clock)
             let shapes: Vec<Option<f64>> = info
                 .shape
                 .map_or(vec![None], |(_, g)| g.iter().copied().map(Some).collect());
             let mut best: Option<fit::GridResult<Fit>> = None;
             let objective = |x: f64, f: &Fit| grid_objective(info, x, f.rss, n_eff);
-            let search_at = |rule: Option<DwellAge>, shape: Option<f64>| {
+            let refit_at = |rule: Option<DwellRule>, shape: Option<f64>, x: f64| {
+                let mut m = fit::add_effect(&current.fit.model, info.kind, p, x);
+                if let Some(v) = shape {
+                    m = fit::with_shape(&m, info.kind, v);
+                }
+                if let Some(rule) = rule {
+                    m = fit::with_dwell_rule(&m, rule);
+                }
+                let f = on.fitting.refit_quick(&m);
+                (grid_objective(info, x, f.rss, n_eff), f)
+            };
+            // Several rules (the dwell's age at a new stick): the rule is chosen first, each
+            // searched at every shape value on every other point of the grid, and only the
+            // chosen rule is searched on the whole grid (its points from the first pass reused
+            // bit for bit). Searching all three dwell rules whole cost a diagnosis x1.10
+            // (session 89, `diagnose_timing 1131 1132`).
+            let all_rules = fit::rules(info.kind);
+            let coarse: Vec<RulePoint> = if all_rules.len() > 1 {
+                let points: Vec<(Option<DwellRule>, Option<f64>, f64)> = (all_rules.iter())
+                    .flat_map(|&r| shapes.iter().map(move |&s| (r, s)))
+                    .flat_map(|(r, s)| grid.iter().step_by(2).map(move |&x| (r, s, x)))
+                    .collect();
+                points
+                    .into_par_iter()
+                    .map(|(r, s, x)| (r, s, x, refit_at(r, s, x)))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let chosen: Vec<Option<DwellRule>> =
+                match coarse.iter().min_by(|a, b| (a.3).0.total_cmp(&(b.3).0)) {
+                    Some((rule, ..)) => vec![*rule],
+                    None => all_rules.to_vec(),
+                };
+            let search_at = |rule: Option<DwellRule>, shape: Option<f64>| {
                 effect_grid_min(info, grid, |x| {
-                    let mut m = fit::add_effect(&current.fit.model, info.kind, p, x);
-                    if let Some(v) = shape {
-                        m = fit::with_shape(&m, info.kind, v);
+                    let same =
+                        |v: Option<f64>, w: Option<f64>| v.map(f64::to_bits) == w.map(f64::to_bits);
+                    match coarse.iter().find(|(r, s, cx, _)| {
+                        *r == rule && same(*s, shape) && cx.to_bits() == x.to_bits()
+                    }) {
+                        Some((.., known)) => known.clone(),
+                        None => refit_at(rule, shape, x),
                     }
-                    if let Some(age) = rule {
-                        m = fit::with_age_rule(&m, age);
-                    }
-                    let f = on.fitting.refit_quick(&m);
-                    (grid_objective(info, x, f.rss, n_eff), f)
                 })
             };
-            // the best fit over every rule and shape value, kept in the order searched
+            // the best fit over the rule's shape values, kept in the order searched
             let keep = |(x, f, profile): fit::GridResult<Fit>,
                         best: &mut Option<fit::GridResult<Fit>>| {
                 if best
@@ -567,15 +605,14 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     *best = Some((x, f, profile));
                 }
             };
-            // Every rule's grid at every shape value, searched side by side: the searches are
-            // independent (the dwell term: 2 rules x 4 renewal distances, then the vertex
-            // between them, each a grid of 6 time constants), and run one after another they
-            // were the longest chain of the candidates' work. They are kept below in the order
-            // a serial search keeps them, so the best fit and every profile are the same bit
-            // for bit (the identity set's suite JSON unchanged; `diagnose_timing 1097 1098`
-            // paired ratio 0.978, session 68: within the machine's noise).
-            let rules = fit::age_rules(info.kind);
-            let on_grid: Vec<Vec<fit::GridResult<Fit>>> = rules
+            // The rule's grid at every shape value, searched side by side: the searches are
+            // independent (the dwell term: 4 renewal distances, then the vertex between them,
+            // each a grid of 6 time constants), and run one after another they were the
+            // longest chain of the candidates' work. They are kept below in the order a serial
+            // search keeps them, so the best fit and every profile are the same bit for bit
+            // (the identity set's suite JSON unchanged; `diagnose_timing 1097 1098` paired
+            // ratio 0.978, session 68: within the machine's noise).
+            let on_grid: Vec<Vec<fit::GridResult<Fit>>> = chosen
                 .par_iter()
                 .map(|&rule| shapes.par_iter().map(|&s| search_at(rule, s)).collect())
                 .collect();
@@ -584,7 +621,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             // more there (the renewal distance on its decade grid left calibration dwell record
             // 1701 at 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with
             // RENEWAL_FINE, session 35)
-            let between: Vec<(ShapeProfile, Option<fit::GridResult<Fit>>)> = rules
+            let between: Vec<(ShapeProfile, Option<fit::GridResult<Fit>>)> = chosen
                 .par_iter()
                 .zip(&on_grid)
                 .map(|(&rule, results)| {
@@ -599,8 +636,8 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     (profile, vertex)
                 })
                 .collect();
-            let mut shape_profiles: Vec<(Option<DwellAge>, ShapeProfile)> = Vec::new();
-            for ((&rule, results), (profile, vertex)) in rules.iter().zip(on_grid).zip(between) {
+            let mut shape_profiles: Vec<(Option<DwellRule>, ShapeProfile)> = Vec::new();
+            for ((&rule, results), (profile, vertex)) in chosen.iter().zip(on_grid).zip(between) {
                 for result in results.into_iter().chain(vertex) {
                     keep(result, &mut best);
                 }
@@ -610,7 +647,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                 unreachable!("at least one shape value is searched")
             };
             // the shape's interval from the profile of the rule the best fit holds
-            let rule = fit::age_rule(&f.model);
+            let rule = fit::dwell_rule(&f.model);
             let shape_profile = shape_profiles
                 .into_iter()
                 .find(|(r, _)| r.is_none() || *r == rule)
@@ -862,12 +899,14 @@ fn judge(
         && (linear_excludes || nonlinear_excludes_null);
     let error_cut = decision_cut(current.fit, &fit);
     let explained_rms_n = explained_rms(current, &fit);
+    let rule = fit::dwell_rule(&fit.model);
     let dwell = rest_null.map(|null| DwellEvidence {
         growth_dbic: growth.unwrap_or(f64::NAN),
         twin_rel_err_pct: null.rel_err_pct,
         twin_cut: 1.0 - fit.rel_err_pct / null.rel_err_pct,
         peak_cut: 1.0 - (peak_rss / null.peak_rss).sqrt(),
-        age_at_stick: fit::age_rule(&fit.model),
+        age_at_stick: rule.map(|r| r.age),
+        clock: rule.map(|r| r.clock),
     });
     Candidate {
         rel_err_pct: Some(fit.rel_err_pct),
@@ -941,9 +980,12 @@ pub struct DwellEvidence {
     /// `1 - sqrt(RSS_peaks / RSS_peaks,twin)` (a fraction; NaN without peaks). Diagnostic:
     /// where the dwell term acts, whatever the rest of the record leaves.
     pub peak_cut: f64,
-    /// The age rule the data chose for the term ([`fit::age_rules`]; serialised by its name,
+    /// The age rule the data chose for the term ([`fit::rules`]; serialised by its name,
     /// `accumulates` or `restarts`).
     pub age_at_stick: Option<DwellAge>,
+    /// The clock the data chose for the term ([`fit::rules`]; serialised by its name,
+    /// `body_speed` or `contact_slip`).
+    pub clock: Option<DwellClock>,
 }
 
 /// The rest-independent twin of a `dwell_stiction` fit (one refit), for [`judge`] to weigh;

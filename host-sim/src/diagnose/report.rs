@@ -1003,7 +1003,7 @@ mod tests {
 
     /// The report's candidate table says where a candidate's parameter ended at the edge of
     /// its search range, as the CLI's list does (both take `Candidate::parameter_texts`), and
-    /// only there; a dwell candidate's age rule is listed with its parameters.
+    /// only there; a dwell candidate's age rule and clock are listed with its parameters.
     #[test]
     fn the_candidate_table_says_which_parameter_ended_at_its_search_edge() {
         use crate::diagnose::{effect_info, ParamReport};
@@ -1026,6 +1026,7 @@ mod tests {
             stick_velocity: 2e-4,
             renewal_distance: 1e-3,
             age_at_stick: DwellAge::Restarts,
+            clock: lugre_servo::friction::DwellClock::ContactSlip,
         });
         dwell.fit = Some(fit);
         let rows = candidate_rows(&[load, dwell]);
@@ -1039,6 +1040,9 @@ mod tests {
         assert!(!texts[1].contains("edge"), "{texts:?}");
         let dwell_texts: Vec<&str> = rows[1][6].split("; ").collect();
         assert!(dwell_texts[0].ends_with("(at the edge of its search range)"));
-        assert_eq!(dwell_texts[1], "age_at_stick = restarts");
+        assert_eq!(
+            dwell_texts[1..],
+            ["age_at_stick = restarts", "clock = contact_slip"]
+        );
     }
 }
