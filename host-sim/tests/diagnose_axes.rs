@@ -891,12 +891,16 @@ fn a_restarting_dwell_rule_is_chosen_where_the_record_shows_it() {
     dwell_rule_is_chosen(33711, DwellAge::Restarts, DwellClock::BodySpeed, 1.2);
 }
 
-/// The other half of [`a_restarting_dwell_rule_is_chosen_where_the_record_shows_it`]: 33712
-/// keeps the accumulating age (expensive suite).
+/// The other half of [`a_restarting_dwell_rule_is_chosen_where_the_record_shows_it`]: on 33712
+/// the body's restarting age lost the dwell (5.55 %) and the accumulating age was kept (3.65 %
+/// against the floor's 0.53 %, sessions 66..89). Since session 90 the age restarting at each
+/// stick of the contact is searched too, and is chosen there: 1.43 % (2.7x the floor;
+/// `axis_suite 0 0 --axes issue --seeds dwell_stiction:33712`). Fails if the search tries the
+/// body's rules only, or if the rule does not reach the model (expensive suite).
 #[test]
 #[ignore]
-fn an_accumulating_dwell_age_is_kept_where_it_fits_better() {
-    dwell_rule_is_chosen(33712, DwellAge::Accumulates, DwellClock::BodySpeed, 7.5);
+fn a_dwell_age_the_body_misses_is_kept_where_the_contact_shows_it() {
+    dwell_rule_is_chosen(33712, DwellAge::Restarts, DwellClock::ContactSlip, 3.0);
 }
 
 /// The third dwell rule (session 89, searched whole only where a coarse first pass chooses it,
