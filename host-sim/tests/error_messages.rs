@@ -6,7 +6,7 @@ use host_sim::diagnose::{self, across, Options};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
 use host_sim::{identify, scenarios, timing};
-use lugre_servo::friction::{DwellAge, DwellClock};
+use lugre_servo::friction::{DwellAge, DwellClock, FrictionModel};
 use std::path::Path;
 
 const GOOD: &str = "[lugre]\nbristle_stiffness_n_per_m = 3.9e9\nbristle_damping_n_s_per_m = 200.0\nviscous_coefficient_n_s_per_m = 48900.0\ncoulomb_force_n = 506.0\nstatic_force_n = 632.0\nstribeck_velocity_m_per_s = 0.005\n[axis]\nmoving_mass_kg = 200.0\n";
@@ -136,24 +136,34 @@ fn parameter_file_messages() {
         m.effects.dwell_stiction.map(|d| d.age_at_stick),
         Some(DwellAge::Accumulates)
     );
+    // a rule word of the dwell term (the age at a stick, the clock): a model that holds it is
+    // written with it by name and reads back the same; a word the file does not know is an
+    // error naming the file and the word, never a default
+    let round_trip = |model: &FrictionModel<f64>, file: &str, line: &str, unknown: &str| {
+        let written = dir.path().join(file);
+        ParamFile::new(model, 200.0).write(&written).unwrap();
+        let text = std::fs::read_to_string(&written).unwrap();
+        assert!(text.contains(line), "{line} not in {text}");
+        assert_eq!(ParamFile::read(&written).unwrap().1, *model);
+        let key = line.split(" = ").next().unwrap();
+        let refusal = read(&format!("{GOOD}{dwell}{key} = \"{unknown}\"\n"));
+        assert!(
+            refusal.starts_with("DIR/p.toml:") && refusal.contains(unknown),
+            "{refusal}"
+        );
+    };
     let mut restarting = m;
     if let Some(d) = restarting.effects.dwell_stiction.as_mut() {
         d.age_at_stick = DwellAge::Restarts;
     }
-    let written = dir.path().join("restarts.toml");
-    ParamFile::new(&restarting, 200.0).write(&written).unwrap();
-    assert!(std::fs::read_to_string(&written)
-        .unwrap()
-        .contains("age_at_stick = \"restarts\""));
-    assert_eq!(ParamFile::read(&written).unwrap().1, restarting);
-    // an age rule it does not know is an error at its line and column, never a default
-    let unknown = read(&format!("{GOOD}{dwell}age_at_stick = \"resets\"\n"));
-    assert!(
-        unknown.starts_with("DIR/p.toml:") && unknown.contains("resets"),
-        "{unknown}"
+    round_trip(
+        &restarting,
+        "restarts.toml",
+        "age_at_stick = \"restarts\"",
+        "resets",
     );
     // the clock: absent (files before session 89) the body's speed; the contact's slip
-    // written by name and read back; a clock it does not know is an error, never a default
+    // written by name and read back
     assert_eq!(
         m.effects.dwell_stiction.map(|d| d.clock),
         Some(DwellClock::BodySpeed)
@@ -162,17 +172,7 @@ fn parameter_file_messages() {
     if let Some(d) = on_slip.effects.dwell_stiction.as_mut() {
         d.clock = DwellClock::ContactSlip;
     }
-    let written = dir.path().join("slip.toml");
-    ParamFile::new(&on_slip, 200.0).write(&written).unwrap();
-    assert!(std::fs::read_to_string(&written)
-        .unwrap()
-        .contains("clock = \"contact_slip\""));
-    assert_eq!(ParamFile::read(&written).unwrap().1, on_slip);
-    let unknown = read(&format!("{GOOD}{dwell}clock = \"wall\"\n"));
-    assert!(
-        unknown.starts_with("DIR/p.toml:") && unknown.contains("wall"),
-        "{unknown}"
-    );
+    round_trip(&on_slip, "slip.toml", "clock = \"contact_slip\"", "wall");
     // the static asymmetry ratio: checked like the others; absent (older files) it is rc
     assert_eq!(
         read(&format!(

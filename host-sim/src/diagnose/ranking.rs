@@ -529,7 +529,7 @@ type ShapeProfile = Vec<(f64, f64)>;
 
 /// A point of the first pass over an effect's rules: the rule, the second shape parameter's
 /// value, the nonlinear parameter's value, and there the grid objective and the quick fit.
-type RulePoint = (Option<DwellRule>, Option<f64>, f64, (f64, Fit));
+type RulePoint = (DwellRule, Option<f64>, f64, (f64, Fit));
 
 fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
     let (p, brk, n_eff) = (on.fitting.p, on.brk, on.fitting.n_eff);
@@ -547,7 +547,6 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             let shapes: Vec<Option<f64>> = info
                 .shape
                 .map_or(vec![None], |(_, g)| g.iter().copied().map(Some).collect());
-            let mut best: Option<fit::GridResult<Fit>> = None;
             let objective = |x: f64, f: &Fit| grid_objective(info, x, f.rss, n_eff);
             let refit_at = |rule: Option<DwellRule>, shape: Option<f64>, x: f64| {
                 let mut m = fit::add_effect(&current.fit.model, info.kind, p, x);
@@ -560,99 +559,78 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                 let f = on.fitting.refit_quick(&m);
                 (grid_objective(info, x, f.rss, n_eff), f)
             };
-            // Several rules (the dwell's age at a new stick): the rule is chosen first, each
-            // searched at every shape value on every other point of the grid, and only the
-            // chosen rule is searched on the whole grid (its points from the first pass reused
-            // bit for bit). Searching all three dwell rules whole cost a diagnosis x1.10
+            // Several rules (the dwell's age at a new stick and its clock): the rule is chosen
+            // first, each searched at every shape value on every other point of the grid, and
+            // only the chosen rule is searched on the whole grid (its points from the first pass
+            // reused bit for bit). Searching all three dwell rules whole cost a diagnosis x1.10
             // (session 89, `diagnose_timing 1131 1132`).
-            let all_rules = fit::rules(info.kind);
-            let coarse: Vec<RulePoint> = if all_rules.len() > 1 {
-                let points: Vec<(Option<DwellRule>, Option<f64>, f64)> = (all_rules.iter())
+            let rules = fit::rules(info.kind);
+            let coarse: Vec<RulePoint> = if rules.len() > 1 {
+                let points: Vec<(DwellRule, Option<f64>, f64)> = (rules.iter())
                     .flat_map(|&r| shapes.iter().map(move |&s| (r, s)))
                     .flat_map(|(r, s)| grid.iter().step_by(2).map(move |&x| (r, s, x)))
                     .collect();
                 points
                     .into_par_iter()
-                    .map(|(r, s, x)| (r, s, x, refit_at(r, s, x)))
+                    .map(|(r, s, x)| (r, s, x, refit_at(Some(r), s, x)))
                     .collect()
             } else {
                 Vec::new()
             };
-            let chosen: Vec<Option<DwellRule>> =
-                match coarse.iter().min_by(|a, b| (a.3).0.total_cmp(&(b.3).0)) {
-                    Some((rule, ..)) => vec![*rule],
-                    None => all_rules.to_vec(),
-                };
-            let search_at = |rule: Option<DwellRule>, shape: Option<f64>| {
+            // the rule searched whole: the first pass's best, or the effect's only rule (none
+            // for an effect without rules)
+            let rule: Option<DwellRule> = coarse
+                .iter()
+                .min_by(|a, b| (a.3).0.total_cmp(&(b.3).0))
+                .map(|(r, ..)| *r)
+                .or_else(|| rules.first().copied());
+            let search_at = |shape: Option<f64>| {
                 effect_grid_min(info, grid, |x| {
                     let same =
                         |v: Option<f64>, w: Option<f64>| v.map(f64::to_bits) == w.map(f64::to_bits);
                     match coarse.iter().find(|(r, s, cx, _)| {
-                        *r == rule && same(*s, shape) && cx.to_bits() == x.to_bits()
+                        Some(*r) == rule && same(*s, shape) && cx.to_bits() == x.to_bits()
                     }) {
                         Some((.., known)) => known.clone(),
                         None => refit_at(rule, shape, x),
                     }
                 })
             };
-            // the best fit over the rule's shape values, kept in the order searched
-            let keep = |(x, f, profile): fit::GridResult<Fit>,
-                        best: &mut Option<fit::GridResult<Fit>>| {
+            // The grid at every shape value, searched side by side: the searches are
+            // independent (the dwell term: 4 renewal distances, then the vertex between them,
+            // each a grid of 6 time constants), and run one after another they were the
+            // longest chain of the candidates' work. They are kept below in the order a serial
+            // search keeps them, so the best fit and the profile are the same bit for bit
+            // (the identity set's suite JSON unchanged; `diagnose_timing 1097 1098` paired
+            // ratio 0.978, session 68: within the machine's noise).
+            let on_grid: Vec<fit::GridResult<Fit>> =
+                shapes.par_iter().map(|&s| search_at(s)).collect();
+            // the profile over the second shape parameter, and between its grid's points the
+            // parabola through the best one and its neighbours in ln, searched once more there
+            // (the renewal distance on its decade grid left calibration dwell record 1701 at
+            // 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE,
+            // session 35)
+            let mut shape_profile: ShapeProfile = (shapes.iter().zip(&on_grid))
+                .filter_map(|(s, (_, f, _))| s.map(|v| (v, f.rss)))
+                .collect();
+            let vertex = shape_vertex_ln(&shape_profile).map(f64::exp).map(|v| {
+                let searched = search_at(Some(v));
+                shape_profile.push((v, searched.1.rss));
+                searched
+            });
+            // the best fit over the shape values, kept in the order searched
+            let mut best: Option<fit::GridResult<Fit>> = None;
+            for (x, f, profile) in on_grid.into_iter().chain(vertex) {
                 if best
                     .as_ref()
                     .is_none_or(|(bx, bf, _)| objective(x, &f) < objective(*bx, bf))
                 {
-                    *best = Some((x, f, profile));
+                    best = Some((x, f, profile));
                 }
-            };
-            // The rule's grid at every shape value, searched side by side: the searches are
-            // independent (the dwell term: 4 renewal distances, then the vertex between them,
-            // each a grid of 6 time constants), and run one after another they were the
-            // longest chain of the candidates' work. They are kept below in the order a serial
-            // search keeps them, so the best fit and every profile are the same bit for bit
-            // (the identity set's suite JSON unchanged; `diagnose_timing 1097 1098` paired
-            // ratio 0.978, session 68: within the machine's noise).
-            let on_grid: Vec<Vec<fit::GridResult<Fit>>> = chosen
-                .par_iter()
-                .map(|&rule| shapes.par_iter().map(|&s| search_at(rule, s)).collect())
-                .collect();
-            // each rule's profile over the second shape parameter, and between its grid's
-            // points the parabola through the best one and its neighbours in ln, searched once
-            // more there (the renewal distance on its decade grid left calibration dwell record
-            // 1701 at 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with
-            // RENEWAL_FINE, session 35)
-            let between: Vec<(ShapeProfile, Option<fit::GridResult<Fit>>)> = chosen
-                .par_iter()
-                .zip(&on_grid)
-                .map(|(&rule, results)| {
-                    let mut profile: ShapeProfile = (shapes.iter().zip(results))
-                        .filter_map(|(s, (_, f, _))| s.map(|v| (v, f.rss)))
-                        .collect();
-                    let vertex = shape_vertex_ln(&profile).map(f64::exp).map(|v| {
-                        let searched = search_at(rule, Some(v));
-                        profile.push((v, searched.1.rss));
-                        searched
-                    });
-                    (profile, vertex)
-                })
-                .collect();
-            let mut shape_profiles: Vec<(Option<DwellRule>, ShapeProfile)> = Vec::new();
-            for ((&rule, results), (profile, vertex)) in chosen.iter().zip(on_grid).zip(between) {
-                for result in results.into_iter().chain(vertex) {
-                    keep(result, &mut best);
-                }
-                shape_profiles.push((rule, profile));
             }
             let Some((x, f, profile)) = best else {
                 unreachable!("at least one shape value is searched")
             };
-            // the shape's interval from the profile of the rule the best fit holds
-            let rule = fit::dwell_rule(&f.model);
-            let shape_profile = shape_profiles
-                .into_iter()
-                .find(|(r, _)| r.is_none() || *r == rule)
-                .map(|(_, profile)| profile)
-                .unwrap_or_default();
             let f = on.refit(&f.model);
             // the profile interval from the grid's own (quick) residuals
             let (lo, hi, inside) = profile_interval(&profile, n_eff, x);
