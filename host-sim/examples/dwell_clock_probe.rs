@@ -1,5 +1,5 @@
 //! What a dwell clock read off the measured motion can explain on the independent
-//! generator's dwell records, against the floor that reads the record's own clock. Three
+//! generator's dwell records, against the floor that reads the record's own clock. Four
 //! modes:
 //!
 //! - `truth [FIRST_SEED] [N]`: the generator's own shape with its clock replaced by a
@@ -10,7 +10,9 @@
 //!   rule and clock (the body's speed or the contact's slip);
 //! - `gaps SEED [STICK] [WINDOW] [--restart]`: where one body-speed clock parts from the
 //!   record's, the 25 stretches of 50 ms that differ most in the dwell force where the axis
-//!   moves.
+//!   moves;
+//! - `ages SEED`: the diagnosis's own dwell candidate run along the record, its age at each
+//!   departure from a rest against the record's clock there (session 91).
 //!
 //! `cargo run --release -p host-sim --example dwell_clock_probe -- MODE ...` (seeds default to
 //! 1700 and 10: the first calibration dwell records); `--axes issue` draws the axes issue 9
@@ -211,6 +213,86 @@ fn gaps(args: &[String], axes: Axes) {
     }
 }
 
+/// `ages SEED`: the diagnosis's own dwell candidate (its rule, time constant and renewal
+/// distance as searched) run along the record, its age at each departure from a rest against
+/// the record's own clock there, and the dwell force each age gives.
+fn ages(args: &[String], axes: Axes) {
+    let seed: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(1700);
+    let (rec, axis) = record(seed, axes);
+    let opts = Options {
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "x.csv", &opts).unwrap();
+    let p = &d.prepared;
+    let cand = d.stages[0]
+        .candidates
+        .iter()
+        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
+        .and_then(|c| c.fit.as_ref())
+        .expect("a dwell candidate");
+    let dw = cand
+        .model
+        .friction
+        .effects
+        .dwell_stiction
+        .expect("the dwell term");
+    let ours = cand.model.simulate(p).dwell;
+    let truth = axis.dwell_trace.clone().expect("random_record keeps it").0;
+    let Shape::Dwell {
+        increase_n,
+        tau_s,
+        hill,
+        ..
+    } = axis.shape
+    else {
+        unreachable!("a dwell record")
+    };
+    let w_true = |age: f64| {
+        let t = age.max(0.0).powf(hill);
+        increase_n * t / (t + tau_s.powf(hill))
+    };
+    let w_ours = |age: f64| dw.max_increase * (1.0 - (-age / dw.time_constant).exp());
+    println!("{seed} {axis:?}");
+    println!(
+        "  candidate {:.2} %: dF {:.1} N, tau {:.3} s, renewal {:.1e} m, {:?} {:?}",
+        cand.rel_err_pct,
+        dw.max_increase,
+        dw.time_constant,
+        dw.renewal_distance,
+        dw.age_at_stick,
+        dw.clock
+    );
+    // the last sample of each rest before the body moves again (the age a breakaway meets)
+    let (mut n, mut sum_t, mut sum_o, mut short) = (0, 0.0, 0.0, 0);
+    for i in 1..p.len() {
+        let departs = p.inside_rest[i - 1] && !p.inside_rest[i];
+        if !departs {
+            continue;
+        }
+        let (t, o) = (truth[i - 1], ours[i - 1]);
+        n += 1;
+        sum_t += w_true(t);
+        sum_o += w_ours(o);
+        if o < 0.5 * t {
+            short += 1;
+        }
+        if n <= 40 {
+            println!(
+                "  t {:7.3} s: true age {t:6.3} s (+{:6.1} N), ours {o:6.3} s (+{:6.1} N)",
+                i as f64 * p.dt,
+                w_true(t),
+                w_ours(o)
+            );
+        }
+    }
+    println!(
+        "  {n} departures: mean dwell force true {:.1} N, ours {:.1} N; ours under half the true age at {short}",
+        sum_t / n.max(1) as f64,
+        sum_o / n.max(1) as f64
+    );
+}
+
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let axes = Axes::from_args(&args);
@@ -220,6 +302,7 @@ fn main() {
     let mode = args.first().map(String::as_str).unwrap_or("truth");
     match mode {
         "gaps" => return gaps(&args[1..], axes),
+        "ages" => return ages(&args[1..], axes),
         "truth" | "fit" => {}
         other => panic!("unknown mode {other}: truth, fit or gaps"),
     }
