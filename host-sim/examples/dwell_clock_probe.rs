@@ -11,8 +11,9 @@
 //! - `gaps SEED [STICK] [WINDOW] [--restart]`: where one body-speed clock parts from the
 //!   record's, the 25 stretches of 50 ms that differ most in the dwell force where the axis
 //!   moves;
-//! - `ages SEED`: the diagnosis's own dwell candidate run along the record, its age at each
-//!   departure from a rest against the record's clock there (session 91).
+//! - `ages SEED [--resets]`: the diagnosis's own dwell candidate run along the record, its age
+//!   at each departure from a rest against the record's clock there, and with `--resets` the
+//!   motion where its age restarts while the record's runs on (session 91).
 //!
 //! `cargo run --release -p host-sim --example dwell_clock_probe -- MODE ...` (seeds default to
 //! 1700 and 10: the first calibration dwell records); `--axes issue` draws the axes issue 9
@@ -213,7 +214,7 @@ fn gaps(args: &[String], axes: Axes) {
     }
 }
 
-/// `ages SEED`: the diagnosis's own dwell candidate (its rule, time constant and renewal
+/// `ages SEED [--resets]`: the diagnosis's own dwell candidate (its rule, time constant and renewal
 /// distance as searched) run along the record, its age at each departure from a rest against
 /// the record's own clock there, and the dwell force each age gives.
 fn ages(args: &[String], axes: Axes) {
@@ -254,6 +255,29 @@ fn ages(args: &[String], axes: Axes) {
     };
     let w_ours = |age: f64| dw.max_increase * (1.0 - (-age / dw.time_constant).exp());
     println!("{seed} {axis:?}");
+    if args.iter().any(|a| a == "--resets") {
+        // where the model's age falls to under half in a step while the record's is over
+        // 0.2 s: the motion, position [um] and rest flags about it
+        for i in 1..p.len() {
+            if ours[i] < 0.5 * ours[i - 1] && truth[i] > 0.2 {
+                let w = i.saturating_sub(3)..(i + 2).min(p.len());
+                let v: Vec<String> = p.v_step[w.clone()]
+                    .iter()
+                    .map(|v| format!("{v:.1e}"))
+                    .collect();
+                let x: Vec<String> = p.x[w.clone()]
+                    .iter()
+                    .map(|x| format!("{:.1}", x * 1e6))
+                    .collect();
+                println!(
+                    "  restart at {:.3} s (record's age {:.3} s): v_step {v:?} m/s, x {x:?} um, at rest {:?}",
+                    i as f64 * p.dt,
+                    truth[i],
+                    &p.inside_rest[w]
+                );
+            }
+        }
+    }
     println!(
         "  candidate {:.2} %: dF {:.1} N, tau {:.3} s, renewal {:.1e} m, {:?} {:?}",
         cand.rel_err_pct,
