@@ -21,10 +21,12 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 use generators::axis::{dwell_record, Axes, Axis, DwellTrace, Shape};
+use host_sim::diagnose::fit::Fit;
 use host_sim::diagnose::inverse::Prepared;
-use host_sim::diagnose::{self, fit, Options};
+use host_sim::diagnose::{self, fit, Diagnosis, Options};
 use host_sim::record::Record;
 use lugre_servo::friction::effects::{DwellAge, DwellClock, DwellStiction};
+use lugre_servo::friction::EffectKind;
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -64,23 +66,50 @@ fn record(seed: u64, axes: Axes) -> (Record, Axis) {
     (Record::parse(&text, Path::new("x.csv")).unwrap(), axis)
 }
 
-/// `truth` and `fit`: per record, a header (floor, baseline, our dwell candidate) and the
-/// mode's lines.
-fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
-    let (rec, axis) = record(seed, axes);
+/// The record's first stage, its candidates ranked but not settled (the probe reads the
+/// baseline and the dwell candidate as the search left them).
+fn first_stage(rec: &Record) -> Diagnosis {
     let opts = Options {
         skip_final_ranking: true,
         ..Default::default()
     };
-    let d = diagnose::diagnose(&rec, "x.csv", &opts).unwrap();
-    let p = &d.prepared;
-    let base = &d.stages[0].fit;
-    let cand = d.stages[0]
+    diagnose::diagnose(rec, "x.csv", &opts).unwrap()
+}
+
+/// The first stage's dwell candidate's fit (`None` where it was skipped).
+fn dwell_candidate(d: &Diagnosis) -> Option<&Fit> {
+    d.stages[0]
         .candidates
         .iter()
-        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
+        .find(|c| c.kind == EffectKind::DwellStiction)
         .and_then(|c| c.fit.as_ref())
-        .map_or(f64::NAN, |f| f.rel_err_pct);
+}
+
+/// The generator's dwell force at an age \[N\] (its Hill law, [`Shape::Dwell`]).
+fn generator_dwell_force(axis: &Axis) -> impl Fn(f64) -> f64 {
+    let Shape::Dwell {
+        increase_n,
+        tau_s,
+        hill,
+        ..
+    } = axis.shape
+    else {
+        unreachable!("a dwell record")
+    };
+    move |age: f64| {
+        let t = age.max(0.0).powf(hill);
+        increase_n * t / (t + tau_s.powf(hill))
+    }
+}
+
+/// `truth` and `fit`: per record, a header (floor, baseline, our dwell candidate) and the
+/// mode's lines.
+fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
+    let (rec, axis) = record(seed, axes);
+    let d = first_stage(&rec);
+    let p = &d.prepared;
+    let base = &d.stages[0].fit;
+    let cand = dwell_candidate(&d).map_or(f64::NAN, |f| f.rel_err_pct);
     let mut s = format!(
         "{seed} {:?} {:?}\n  floor {:.2} %, baseline {:.2} %, dwell candidate {cand:.2} %\n",
         axis.actuator,
@@ -166,20 +195,7 @@ fn gaps(args: &[String], axes: Axes) {
     let restart = args.iter().any(|a| a == "--restart");
     let (rec, axis) = record(seed, axes);
     let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();
-    let Shape::Dwell {
-        increase_n,
-        tau_s,
-        hill,
-        ..
-    } = axis.shape
-    else {
-        unreachable!("a dwell record")
-    };
-    // the generator's dwell force at an age [N]
-    let w = |age: f64| {
-        let t = age.max(0.0).powf(hill);
-        increase_n * t / (t + tau_s.powf(hill))
-    };
+    let w = generator_dwell_force(&axis);
     let truth = axis.dwell_trace.clone().expect("random_record keeps it").0;
     let renewal = (!restart).then(|| renewal_of(&axis));
     let body = body_clock(&p, stick, window, renewal);
@@ -220,40 +236,22 @@ fn gaps(args: &[String], axes: Axes) {
 fn ages(args: &[String], axes: Axes) {
     let seed: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(1700);
     let (rec, axis) = record(seed, axes);
-    let opts = Options {
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "x.csv", &opts).unwrap();
+    let d = first_stage(&rec);
     let p = &d.prepared;
-    let cand = d.stages[0]
-        .candidates
-        .iter()
-        .find(|c| c.kind == lugre_servo::friction::EffectKind::DwellStiction)
-        .and_then(|c| c.fit.as_ref())
-        .expect("a dwell candidate");
-    let dw = cand
-        .model
-        .friction
-        .effects
-        .dwell_stiction
-        .expect("the dwell term");
+    let cand = dwell_candidate(&d).expect("a dwell candidate");
+    let dw = (cand.model.friction.effects.dwell_stiction).expect("the dwell term");
     let ours = cand.model.simulate(p).dwell;
     let truth = axis.dwell_trace.clone().expect("random_record keeps it").0;
-    let Shape::Dwell {
-        increase_n,
-        tau_s,
-        hill,
-        ..
-    } = axis.shape
-    else {
-        unreachable!("a dwell record")
+    let w_true = generator_dwell_force(&axis);
+    // the candidate's own law, read off the core: its static level at an age less at none
+    let reference = cand.model.friction.effects.reference_conditions();
+    let static_at = |age: f64| {
+        (cand.model.friction)
+            .levels_by_direction(&reference, age)
+            .0
+            .static_
     };
-    let w_true = |age: f64| {
-        let t = age.max(0.0).powf(hill);
-        increase_n * t / (t + tau_s.powf(hill))
-    };
-    let w_ours = |age: f64| dw.max_increase * (1.0 - (-age / dw.time_constant).exp());
+    let w_ours = |age: f64| static_at(age) - static_at(0.0);
     println!("{seed} {axis:?}");
     if args.iter().any(|a| a == "--resets") {
         // where the model's age falls to under half in a step while the record's is over
