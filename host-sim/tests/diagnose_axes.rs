@@ -1577,3 +1577,60 @@ fn a_force_logged_half_a_sample_late_is_read_so_and_a_pressure_force_as_logged()
         report(&hydraulic)
     );
 }
+
+/// A dwell term whose growth with the rest time the record does not show is dwell stiction
+/// that every rest saturates, named where the model leaves more than the measurement accounts
+/// for (session 92). Dwell record 35166 (issue's axes): the grid's best term errs 2.70 %, its
+/// rest-independent twin 2.55 % against the baseline's 3.01 %; until session 92 a caution held
+/// it. The twin is the term's fit, its time constant reported beyond the search range.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn a_dwell_level_every_rest_saturates_is_named_beyond_the_measurement() {
+    let d = diagnose_on_issue_axes("dwell_stiction", 35166);
+    let stage = &d.stages[0];
+    assert!(d.unexplained(stage).beyond_measurement(), "{}", report(&d));
+    let dwell = dwell_candidate(stage);
+    let evidence = dwell.dwell.as_ref().unwrap();
+    assert!(!evidence.growth_shown, "{}", evidence.growth_dbic);
+    assert!(dwell.saturated_note().is_some());
+    let tau = &dwell.parameters[0];
+    assert_eq!(tau.name, "time_constant_s");
+    assert!(
+        (tau.value - diagnose::breakaway::REST_INDEPENDENT_TAU_S).abs() < 1e-12
+            && tau.at_search_edge,
+        "{tau:?}"
+    );
+    assert!(dwell.caution.is_none(), "{:?}", dwell.caution);
+    assert!(
+        dwell.error_cut >= diagnose::DWELL_MIN_ERROR_CUT,
+        "{}",
+        report(&d)
+    );
+    assert_eq!(
+        first_significant(&stage.candidates),
+        Some("dwell_stiction"),
+        "{}",
+        report(&d)
+    );
+}
+
+/// The same saturated level is held where the model leaves no more than the measurement
+/// accounts for: effect-free record 138 (wide axes, force-actuated), whose rest-independent
+/// level cuts half the baseline's error (0.50) where the baseline leaves 0.64x what the
+/// measurement accounts for, its error below the true model's (1.94 % against 2.75 %).
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn a_saturated_dwell_level_within_the_measurement_is_held() {
+    let (d, _) = diagnose(None, 138, &[]);
+    let stage = &d.stages[0];
+    assert!(!d.unexplained(stage).beyond_measurement(), "{}", report(&d));
+    let dwell = dwell_candidate(stage);
+    assert!(!dwell.dwell.as_ref().unwrap().growth_shown);
+    let why = dwell.caution.as_deref().unwrap_or_default();
+    assert!(
+        why.contains("no more than the measurement accounts for"),
+        "{why}"
+    );
+    assert!(!dwell.significant);
+    assert_eq!(first_significant(&stage.candidates), None, "{}", report(&d));
+}

@@ -541,6 +541,9 @@ fn print_candidates(s: &diagnose::Stage) {
                 if let Some(why) = c.held_note() {
                     println!("   {:<24} -> {why}", "");
                 }
+                if let Some(what) = c.saturated_note() {
+                    println!("   {:<24} -> {what}", "");
+                }
                 if let Some(why) = &c.caution {
                     println!("   {:<24} -> cannot be significant: {why}", "");
                 }

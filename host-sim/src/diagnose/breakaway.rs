@@ -20,7 +20,8 @@
 //!    peak at departure `e` and `n` departures, `dBIC_peaks = n ln(RSS_current / RSS_candidate)`
 //!    (one independent sample per departure) is added to the candidate's sliding dBIC.
 //!    `dwell_stiction` must in addition grow with the rest time ([`DWELL_MIN_GROWTH_DBIC`]),
-//!    and it is not tested on a record with too few departures or rest times that hardly vary
+//!    or, since session 92, the model must leave more than the measurement accounts for (a
+//!    level every rest saturates, `ranking::judge`), and it is not tested on a record with too few departures or rest times that hardly vary
 //!    ([`MIN_DEPARTURES`], [`MIN_REST_SPAN`]): there the record cannot reveal it.
 //! 2. A model-free trend for the report: the peaks per direction against the rest time,
 //!    `peak = b_d + c_a a + c_v v + dF (1 - exp(-t_rest / tau))`, least squares for
@@ -58,13 +59,15 @@ pub const MIN_DEPARTURES_KINEMATICS: usize = 10;
 /// Longest rest over shortest rest needed to test `dwell_stiction` (its force grows with the
 /// rest time: with rests of one length there is nothing to compare).
 pub const MIN_REST_SPAN: f64 = 4.0;
-/// `dwell_stiction` is significant only where its force depends on the rest time: the fitted
-/// dwell term must beat the same term with every rest counted as long (time constant
-/// [`REST_INDEPENDENT_TAU_S`]: a breakaway level of its own, whatever the rest) by at least
-/// this evidence (sliding dBIC plus the peaks'), and then cut the current model's error by the
-/// decision's cut (`DWELL_MIN_ERROR_CUT`; until session 80 the twin's error). A dwell term also
-/// gives a model a breakaway level apart from the Stribeck curve it slides on; growth with the
-/// rest time is what dwell stiction is.
+/// Growth with the rest time is shown where the fitted dwell term beats the same term with
+/// every rest counted as long (time constant [`REST_INDEPENDENT_TAU_S`]: a breakaway level of
+/// its own, whatever the rest) by at least this evidence (sliding dBIC plus the peaks'); it then
+/// has to cut the current model's error by the decision's cut (`DWELL_MIN_ERROR_CUT`; until
+/// session 80 the twin's error). A term whose growth is not shown is a level every rest of the
+/// record saturates: until session 92 it was never significant; since then it is judged as
+/// every effect is where the current model leaves more than the measurement accounts for
+/// (`ranking::judge`), and held elsewhere, where the level at the departures can be the
+/// reading's.
 pub const DWELL_MIN_GROWTH_DBIC: f64 = 2.0;
 
 /// The model-free trend of the peaks ([`DwellTrend`]) counts as growth with the rest time at

@@ -321,7 +321,9 @@ fn effect_on_edge(info: &EffectInfo, grid: &[f64], value: f64) -> bool {
     if info.orders_first.is_some() {
         grid.last().is_some_and(|top| value >= *top)
     } else {
-        on_edge(grid, value)
+        // (beyond the grid: a dwell term's rest-independent twin, `ranking::with_twin`)
+        let beyond = grid.iter().all(|g| value < *g) || grid.iter().all(|g| value > *g);
+        on_edge(grid, value) || beyond
     }
 }
 
@@ -654,6 +656,21 @@ impl Candidate {
                 100.0 * contact_cut
             )
         })
+    }
+
+    /// Where this candidate is a `dwell_stiction` term whose growth with the rest time the
+    /// record does not show ([`DwellEvidence::growth_shown`]), a sentence saying what it is
+    /// then, for the text output and the report.
+    pub fn saturated_note(&self) -> Option<String> {
+        let d = self.dwell.as_ref().filter(|d| !d.growth_shown)?;
+        Some(format!(
+            "its growth with the rest time is not shown (evidence {:.1} < {}): a breakaway level \
+             above the sliding curve that every rest of the record reaches (dwell stiction whose \
+             time constant is shorter than the rests), weighed only where the model leaves more \
+             than the measurement accounts for",
+            d.growth_dbic + 0.0,
+            breakaway::DWELL_MIN_GROWTH_DBIC
+        ))
     }
 
     /// Where this candidate was held by the contact check ([`Candidate::held_by_contact`]), a
@@ -1339,6 +1356,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         },
         brk: &brk,
         tables: &tables,
+        motion_spread_pct,
     };
     // the contact check where a dwell rule ran it (`dwell_and_the_contact`), on the
     // last stage's model (reused below where that stage stays the last and ends beyond)

@@ -383,6 +383,9 @@ fn verdict(c: &super::Candidate) -> String {
     if c.settled_as_stage {
         v += &format!(" ({})", super::SETTLED_AS_STAGE);
     }
+    if let Some(what) = c.saturated_note() {
+        v += &format!(" ({what})");
+    }
     if c.from_static_table {
         v += &format!(" ({})", super::FROM_STATIC_TABLE);
     }
