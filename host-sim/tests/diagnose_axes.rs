@@ -1631,6 +1631,6 @@ fn a_saturated_dwell_level_within_the_measurement_is_held() {
         why.contains("no more than the measurement accounts for"),
         "{why}"
     );
-    assert!(!dwell.significant);
+    assert!(!dwell.significant && dwell.saturated_note().is_none());
     assert_eq!(first_significant(&stage.candidates), None, "{}", report(&d));
 }

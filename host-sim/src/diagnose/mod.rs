@@ -327,6 +327,13 @@ fn effect_on_edge(info: &EffectInfo, grid: &[f64], value: f64) -> bool {
     }
 }
 
+/// `x` rounded to tenths, a negative zero made positive: what `{:.1}` prints without "-0.0" for
+/// a value within rounding of zero (a dwell term whose fit is its twin has a growth a rounding
+/// error off zero).
+pub(crate) fn tenths(x: f64) -> f64 {
+    (x * 10.0).round() / 10.0 + 0.0
+}
+
 /// One candidate effect, scored.
 #[derive(Clone, Debug, Serialize)]
 pub struct Candidate {
@@ -659,16 +666,21 @@ impl Candidate {
     }
 
     /// Where this candidate is a `dwell_stiction` term whose growth with the rest time the
-    /// record does not show ([`DwellEvidence::growth_shown`]), a sentence saying what it is
-    /// then, for the text output and the report.
+    /// record does not show ([`DwellEvidence::growth_shown`]) and that was judged all the same
+    /// (no caution: the model leaves more than the measurement accounts for and the level
+    /// rises), a sentence saying what it is then, for the text output and the report (where a
+    /// caution holds it, the caution says why).
     pub fn saturated_note(&self) -> Option<String> {
+        if self.caution.is_some() {
+            return None;
+        }
         let d = self.dwell.as_ref().filter(|d| !d.growth_shown)?;
         Some(format!(
             "its growth with the rest time is not shown (evidence {:.1} < {}): a breakaway level \
              above the sliding curve that every rest of the record reaches (dwell stiction whose \
-             time constant is shorter than the rests), weighed only where the model leaves more \
-             than the measurement accounts for",
-            d.growth_dbic + 0.0,
+             time constant is shorter than the rests), judged where the model leaves more than \
+             the measurement accounts for",
+            tenths(d.growth_dbic),
             breakaway::DWELL_MIN_GROWTH_DBIC
         ))
     }
@@ -1601,6 +1613,16 @@ pub fn validate(model: &AxisModel, rec: &Record, name: &str, protocol: Protocol)
 
 #[cfg(test)]
 mod tests {
+
+    /// A value a rounding error below zero prints as 0.0, not -0.0; others keep their tenths.
+    #[test]
+    fn tenths_print_without_a_negative_zero() {
+        assert_eq!(format!("{:.1}", tenths(-1e-13)), "0.0");
+        assert_eq!(format!("{:.1}", tenths(-0.0)), "0.0");
+        assert_eq!(format!("{:.1}", tenths(-12.34)), "-12.3");
+        assert_eq!(format!("{:.1}", tenths(2.06)), "2.1");
+        assert_eq!(tenths(f64::NEG_INFINITY), f64::NEG_INFINITY);
+    }
     use super::*;
 
     fn candidate(detected: bool, error_cut: f64) -> Candidate {

@@ -887,7 +887,7 @@ fn judge(
                 format!(
                     "a breakaway level that ignores the rest time explains the record as well \
                      (evidence for growth with rest {:.1} < {}), {why}",
-                    growth.unwrap_or(f64::NEG_INFINITY) + 0.0,
+                    tenths(growth.unwrap_or(f64::NEG_INFINITY)),
                     breakaway::DWELL_MIN_GROWTH_DBIC
                 )
             })
