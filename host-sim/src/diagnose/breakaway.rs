@@ -21,8 +21,9 @@
 //!    (one independent sample per departure) is added to the candidate's sliding dBIC.
 //!    `dwell_stiction` must in addition grow with the rest time ([`DWELL_MIN_GROWTH_DBIC`]),
 //!    or, since session 92, the model must leave more than the measurement accounts for (a
-//!    level every rest saturates, `ranking::judge`), and it is not tested on a record with too few departures or rest times that hardly vary
-//!    ([`MIN_DEPARTURES`], [`MIN_REST_SPAN`]): there the record cannot reveal it.
+//!    level every rest saturates, `ranking::judge`), and it is not tested on a record with too
+//!    few departures or rest times that hardly vary ([`MIN_DEPARTURES`], [`MIN_REST_SPAN`]):
+//!    there the record cannot reveal it.
 //! 2. A model-free trend for the report: the peaks per direction against the rest time,
 //!    `peak = b_d + c_a a + c_v v + dF (1 - exp(-t_rest / tau))`, least squares for
 //!    `(b_+, b_-, c_a, c_v, dF)` at each `tau` of a log grid, `dBIC = n ln(RSS_0 / RSS_1) -

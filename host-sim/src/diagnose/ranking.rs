@@ -860,7 +860,7 @@ fn judge(
     let dbic = sliding + peaks.unwrap_or(0.0);
     // dwell stiction is a breakaway force that grows with the rest time: the record must be
     // able to show that, and the growth must beat a breakaway level of its own
-    let growth = rest_null.map(|null| null.growth_dbic(brk, &fit, n_eff));
+    let growth = rest_null.map(|null| null.growth_dbic(brk, fit.rss, peak_rss, n_eff));
     // Where the dwell term's growth with the rest time is not shown
     // (`DwellEvidence::growth_shown`), it is a breakaway level every rest saturates: dwell
     // stiction whose time constant is shorter than the rests where the current model leaves
@@ -943,12 +943,12 @@ pub(super) struct RestNull {
 }
 
 impl RestNull {
-    /// The evidence for `fit`'s growth with the rest time against this twin on `n_eff`
-    /// effective samples: `n_eff ln(RSS_twin / RSS)` plus the breakaway peaks' dBIC against the
+    /// The evidence for a fit's growth with the rest time against this twin on `n_eff`
+    /// effective samples, from the fit's residual sum of squares `rss` and its breakaway
+    /// peaks' `peak_rss` \[N^2\]: `n_eff ln(RSS_twin / RSS)` plus the peaks' dBIC against the
     /// twin's ([`DwellEvidence::growth_dbic`]).
-    fn growth_dbic(&self, brk: &Breakaway, fit: &Fit, n_eff: f64) -> f64 {
-        let peak_rss = brk.peak_rss(&fit.prediction);
-        n_eff * (self.rss / fit.rss).ln()
+    fn growth_dbic(&self, brk: &Breakaway, rss: f64, peak_rss: f64, n_eff: f64) -> f64 {
+        n_eff * (self.rss / rss).ln()
             + brk
                 .counted_peak_dbic(self.peak_rss, peak_rss)
                 .unwrap_or(0.0)
@@ -1035,23 +1035,34 @@ fn twin_model(on: &Scope, info: &EffectInfo, fit: &Fit) -> Option<AxisModel> {
     Some(twin)
 }
 
-/// The rest-independent twin of a `dwell_stiction` fit (one refit of [`twin_model`]), for
-/// [`judge`] to weigh; `None` for other effects and where the record cannot test the dwell term.
-/// The twin's family contains the current model (no increase), so the twin is never scored
-/// worse than the current model: a refit started from the dwell fit can stop in a worse local
-/// minimum, and that would count as growth with the rest (on calibration record 106 a twin at
-/// 0.57 % against the current model's 0.25 %).
+/// The rest-independent twin of a `dwell_stiction` fit, refitted ([`twin_model`]), and its
+/// residuals for [`judge`] to weigh; `None` for other effects and where the record cannot test
+/// the dwell term. The twin's family contains the current model (no increase), so the residuals
+/// are never scored worse than the current model's: a refit started from the dwell fit can stop
+/// in a worse local minimum, and that would count as growth with the rest (on calibration
+/// record 106 a twin at 0.57 % against the current model's 0.25 %).
+fn fitted_twin(
+    on: &Scope,
+    info: &EffectInfo,
+    current: &Current,
+    fit: &Fit,
+) -> Option<(Fit, RestNull)> {
+    let twin = on.refit(&twin_model(on, info, fit)?);
+    let null = RestNull::of_fit(&twin, on.brk).or_current(current);
+    Some((twin, null))
+}
+
+/// The residuals of a `dwell_stiction` fit's rest-independent twin ([`fitted_twin`]).
 fn rest_independent_twin(
     on: &Scope,
     info: &EffectInfo,
     current: &Current,
     fit: &Fit,
 ) -> Option<RestNull> {
-    let twin = on.refit(&twin_model(on, info, fit)?);
-    Some(RestNull::of_fit(&twin, on.brk).or_current(current))
+    fitted_twin(on, info, current, fit).map(|(_, null)| null)
 }
 
-/// A `dwell_stiction` candidate's fit and its twin's residuals ([`rest_independent_twin`]):
+/// A `dwell_stiction` candidate's fit and its twin's residuals ([`fitted_twin`]):
 /// where the twin fits the record better than the term the grid searched and that term's
 /// growth with the rest time is not shown, the twin is the term's fit. The twin is a dwell term
 /// too, one whose time constant lies below every rest the record holds, so its level is reached
@@ -1066,15 +1077,13 @@ fn with_twin(
     current: &Current,
     fit: Fit,
 ) -> (Fit, Option<RestNull>) {
-    let Some(model) = twin_model(on, info, &fit) else {
+    let Some((mut twin, null)) = fitted_twin(on, info, current, &fit) else {
         return (fit, None);
     };
-    let mut twin = on.refit(&model);
-    let null = RestNull::of_fit(&twin, on.brk).or_current(current);
     // (a term whose growth is shown keeps its own fit: its peaks beat the twin's)
-    let shown =
-        null.growth_dbic(on.brk, &fit, on.fitting.n_eff) >= breakaway::DWELL_MIN_GROWTH_DBIC;
-    if twin.rss < fit.rss && !shown {
+    let peak_rss = on.brk.peak_rss(&fit.prediction);
+    let growth = null.growth_dbic(on.brk, fit.rss, peak_rss, on.fitting.n_eff);
+    if twin.rss < fit.rss && growth < breakaway::DWELL_MIN_GROWTH_DBIC {
         twin.flags = fit.flags.clone();
         (twin, Some(null))
     } else {
