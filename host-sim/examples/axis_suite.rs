@@ -192,7 +192,7 @@ struct Row {
     /// (`diagnose::Restart`)
     restarts: usize,
     /// the baseline's candidates searched again to settle a close call
-    /// (`diagnose::CLOSE_CALL`, `Candidate::settled_as_stage`)
+    /// (`diagnose::CLOSE_CALL`, `Candidate::settled_close_call`)
     settled: Vec<String>,
     /// the baseline's candidates whose fit from the asymmetric static table won over their fit
     /// from the model (`diagnose::TABLE_SPANNED`, `Candidate::from_static_table`)
@@ -842,7 +842,7 @@ fn run(
         .unexplained_trend(&d.stages[0].fit.prediction)
         .map(|t| (t.delta_bic, t.increase_n, t.increase_ci_n));
     row.restarts = d.stages[0].restarts.len();
-    row.settled = d.stages[0].named_where(|c| c.settled_as_stage);
+    row.settled = d.stages[0].named_where(|c| c.settled_close_call);
     row.from_table = d.stages[0].named_where(|c| c.from_static_table);
     row.motion_spread_pct = d.motion_spread_pct;
     row.scored_fraction = p.scored_fraction();

@@ -461,11 +461,11 @@ fn kept_says_why(kept: &diagnose::Candidate, larger: &str, d: &Diagnosis) {
     );
 }
 
-/// A close call is settled on fits searched as a stage searches (`diagnose::CLOSE_CALL`): on
-/// never-run viscous-power record 20642 (hydraulic) the Stribeck shape scored 1.02 % as a
-/// candidate and the viscous power 1.08 %, and the Stribeck shape was named; searched again,
-/// viscous power reaches about half that error (the truth 0.58 %) and is the answer, and both
-/// say how they were judged.
+/// A close call is settled on fits searched again (`diagnose::CLOSE_CALL`,
+/// `Search::CLOSE_CALL`): on never-run viscous-power record 20642 (hydraulic) the Stribeck
+/// shape scored 1.02 % as a candidate and the viscous power 1.08 %, and the Stribeck shape was
+/// named; searched again, viscous power reaches about half that error (the truth 0.58 %) and
+/// is the answer, and both say how they were judged.
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_close_call_is_settled_on_converged_fits() {
@@ -474,8 +474,39 @@ fn a_close_call_is_settled_on_converged_fits() {
     println!("{}", report(&d));
     let named = |n: &str| c.iter().find(|c| c.kind.name() == n).unwrap();
     let (viscous, stribeck) = (named("viscous_power"), named("stribeck_shape"));
-    assert!(viscous.settled_as_stage && stribeck.settled_as_stage);
+    assert!(viscous.settled_close_call && stribeck.settled_close_call);
     assert!(viscous.rel_err_pct.unwrap() < 0.6, "{}", report(&d));
+    assert_eq!(
+        first_significant(c),
+        Some("viscous_power"),
+        "{}",
+        report(&d)
+    );
+}
+
+/// A rival whose candidate error is up to twice the leader's is a close call (session 93):
+/// on viscous-power record 34770 (issue's axes; never-run in session 92, used since) the
+/// Stribeck shape scored 1.23 % and the viscous power 1.79 % (1.46x), and with the window at
+/// 1.25 the Stribeck shape was named; searched again, the viscous power reaches under 1 % (the
+/// truth's floor 0.28 %) and is the answer, the Stribeck shape stays where it was.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn a_rival_at_twice_the_leaders_error_is_a_close_call() {
+    let d = diagnose_on_issue_axes("viscous_power", 34770);
+    let c = &d.stages[0].candidates;
+    let named = |n: &str| c.iter().find(|c| c.kind.name() == n).unwrap();
+    let (viscous, stribeck) = (named("viscous_power"), named("stribeck_shape"));
+    assert!(
+        viscous.settled_close_call && stribeck.settled_close_call,
+        "{}",
+        report(&d)
+    );
+    assert!(viscous.rel_err_pct.unwrap() < 1.0, "{}", report(&d));
+    assert!(
+        stribeck.rel_err_pct.unwrap() > 1.1 * viscous.rel_err_pct.unwrap(),
+        "{}",
+        report(&d)
+    );
     assert_eq!(
         first_significant(c),
         Some("viscous_power"),
@@ -898,7 +929,7 @@ fn a_restarting_dwell_rule_is_chosen_where_the_record_shows_it() {
 /// `axis_suite 0 0 --axes issue --seeds dwell_stiction:33712`). Fails if the search tries the
 /// body's rules only, or if the rule does not reach the model (expensive suite).
 #[test]
-#[ignore]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_dwell_age_the_body_misses_is_kept_where_the_contact_shows_it() {
     dwell_rule_is_chosen(33712, DwellAge::Restarts, DwellClock::ContactSlip, 3.0);
 }

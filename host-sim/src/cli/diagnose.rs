@@ -555,7 +555,7 @@ fn print_candidates(s: &diagnose::Stage) {
     type Flag = fn(&diagnose::Candidate) -> bool;
     let how: [(Flag, &str); 4] = [
         (|c| c.fitted_before_restart, diagnose::FITTED_BEFORE_RESTART),
-        (|c| c.settled_as_stage, diagnose::SETTLED_AS_STAGE),
+        (|c| c.settled_close_call, diagnose::SETTLED_CLOSE_CALL),
         (|c| c.from_static_table, diagnose::FROM_STATIC_TABLE),
         (
             |c| c.from_nested_check.is_some(),

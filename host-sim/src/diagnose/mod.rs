@@ -430,12 +430,12 @@ pub struct Candidate {
     /// ([`verdict_samples`]).
     #[serde(skip)]
     model_start: Option<Fit>,
-    /// Searched again as a stage searches ([`polish`]: two rounds, the stiffness too) and
-    /// judged on that fit: a close call in the stage's final ranking, its error within
+    /// Searched again ([`polish`] with [`Search::CLOSE_CALL`]) and judged on that fit: a
+    /// close call in the stage's final ranking, its error within
     /// [`CLOSE_CALL`] of the first significant candidate's, or that first candidate itself
     /// (see `settle_close_call`).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
-    pub settled_as_stage: bool,
+    pub settled_close_call: bool,
     /// Where this candidate is the simpler effect of a nested pair ([`NESTED`]) and the
     /// answer: the larger effect judged on top of it, and why the simpler one was kept (only on
     /// a significant candidate: a close call judged again keeps it while it stays significant,
@@ -641,7 +641,7 @@ impl Candidate {
             from_static_table: false,
             from_nested_check: None,
             model_start: None,
-            settled_as_stage: false,
+            settled_close_call: false,
             kept_over_larger: None,
             nested_check: None,
             beyond_the_measurement: None,
@@ -767,7 +767,7 @@ impl Stage {
     }
 
     /// The names of the stage's candidates for which `flag` holds, in ranking order (how some
-    /// were fitted: [`Candidate::settled_as_stage`], [`Candidate::from_static_table`], ...).
+    /// were fitted: [`Candidate::settled_close_call`], [`Candidate::from_static_table`], ...).
     pub fn named_where(&self, flag: fn(&Candidate) -> bool) -> Vec<String> {
         self.candidates
             .iter()

@@ -380,8 +380,8 @@ fn verdict(c: &super::Candidate) -> String {
     if c.fitted_before_restart {
         v += &format!(" ({})", super::FITTED_BEFORE_RESTART);
     }
-    if c.settled_as_stage {
-        v += &format!(" ({})", super::SETTLED_AS_STAGE);
+    if c.settled_close_call {
+        v += &format!(" ({})", super::SETTLED_CLOSE_CALL);
     }
     if let Some(what) = c.saturated_note() {
         v += &format!(" ({what})");

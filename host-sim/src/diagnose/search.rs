@@ -395,6 +395,18 @@ impl Search {
         refine: false,
         stribeck_ratio: false,
     };
+    /// The rivals of a close call searched again (`ranking::settle_close_call`): vs and the
+    /// effect's own parameter, two rounds, without the stiffness and not refined. A
+    /// candidate's fit stops short of its stage where the missing effect bent the Stribeck
+    /// curve; the stiffness and the refinement took half of a settlement's time and moved
+    /// no answer on the five used records that studied it (session 93: temperature 1131
+    /// 2.83 -> 1.36 s, three contenders of 34579 3.45 -> 1.74 s).
+    pub const CLOSE_CALL: Self = Self {
+        rounds: 2,
+        stiffness: false,
+        refine: false,
+        stribeck_ratio: true,
+    };
     /// The first baseline, which only sets the motion weights ([`first_baseline`]): vs and
     /// sigma0 once, not refined.
     pub const FIRST_BASELINE: Self = Self {
