@@ -396,7 +396,8 @@ impl Search {
         stribeck_ratio: false,
     };
     /// The rivals of a close call searched again (`ranking::settle_close_call`): vs and the
-    /// effect's own parameter, two rounds, without the stiffness and not refined. A
+    /// effect's own parameter (an asymmetry's Stribeck velocity ratio too, as a stage's), two
+    /// rounds, without the stiffness and not refined. A
     /// candidate's fit stops short of its stage where the missing effect bent the Stribeck
     /// curve; the stiffness and the refinement took half of a settlement's time and moved
     /// no answer on the five used records that studied it (session 93: temperature 1131
