@@ -404,7 +404,7 @@ impl Search {
     /// 2.83 -> 1.36 s, three contenders of 34579 3.45 -> 1.74 s).
     pub const CLOSE_CALL: Self = Self {
         rounds: 2,
-        stiffness: false,
+        stiffness: true,
         refine: false,
         stribeck_ratio: true,
     };
