@@ -329,13 +329,13 @@ pub const CLOSE_CALL: f64 = 2.0;
 
 /// What the text output and the report say of a candidate [`Candidate::settled_close_call`].
 pub const SETTLED_CLOSE_CALL: &str =
-    "a close call: searched again (the Stribeck velocity and the effect's own parameter, two rounds), and judged on that fit";
+    "a close call: searched again (the Stribeck velocity, the stiffness and the effect's own parameter, two rounds), and judged on that fit";
 
 /// Settles a close call in a stage's final ranking on fits that have converged further:
 /// when other significant candidates score within [`CLOSE_CALL`] of the first significant
 /// one's error, each of them and the first are searched again from its candidate's start
-/// ([`polish`] with [`Search::CLOSE_CALL`]: the Stribeck velocity and the effect's own
-/// parameter, two rounds; until session 93 a stage's search, the stiffness and a refinement
+/// ([`polish`] with [`Search::CLOSE_CALL`]: the Stribeck velocity, the stiffness and the
+/// effect's own parameter, two rounds; until session 93 a stage's search, a refinement
 /// too), kept where they score better, judged again on the final verdict's yardstick, and the
 /// list is sorted again. A candidate's fit is searched from
 /// the current model, whose Stribeck curve and stiffness a missing effect has bent, and polished
