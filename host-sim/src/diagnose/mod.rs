@@ -1613,6 +1613,7 @@ pub fn validate(model: &AxisModel, rec: &Record, name: &str, protocol: Protocol)
 
 #[cfg(test)]
 mod tests {
+    use super::*;
 
     /// A value a rounding error below zero prints as 0.0, not -0.0; others keep their tenths.
     #[test]
@@ -1623,7 +1624,6 @@ mod tests {
         assert_eq!(format!("{:.1}", tenths(2.06)), "2.1");
         assert_eq!(tenths(f64::NEG_INFINITY), f64::NEG_INFINITY);
     }
-    use super::*;
 
     fn candidate(detected: bool, error_cut: f64) -> Candidate {
         Candidate {

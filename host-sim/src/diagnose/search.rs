@@ -395,19 +395,17 @@ impl Search {
         refine: false,
         stribeck_ratio: false,
     };
-    /// The rivals of a close call searched again (`ranking::settle_close_call`): vs, sigma0
-    /// and the effect's own parameter (an asymmetry's Stribeck velocity ratio too, as a
-    /// stage's), two rounds, not refined. A candidate's fit stops short of its stage where the
+    /// The rivals of a close call searched again (`ranking::settle_close_call`): a stage's
+    /// search (vs, sigma0 and the effect's own parameter, an asymmetry's Stribeck velocity
+    /// ratio too, two rounds) without its refinement. A candidate's fit stops short of its stage where the
     /// missing effect bent the Stribeck curve and the stiffness. The refinement took a quarter
     /// of a settlement's time and moved no answer on the five used records that studied it
     /// (session 93: temperature 1131 2.83 -> 2.11 s). The stiffness stays: searched without it
     /// (half the time), a dwell term took up the breakaway peaks the stiffness shapes on
     /// Stribeck record 1504 and was named.
     pub const CLOSE_CALL: Self = Self {
-        rounds: 2,
-        stiffness: true,
         refine: false,
-        stribeck_ratio: true,
+        ..Self::STAGE
     };
     /// The first baseline, which only sets the motion weights ([`first_baseline`]): vs and
     /// sigma0 once, not refined.
