@@ -189,6 +189,26 @@ pub const EFFECTS: [EffectInfo; 8] = [
     },
 ];
 
+/// What a `dwell_stiction` candidate means where its fitted level falls with the rest time
+/// (`max_increase_n < 0`), in place of the effect's meaning: ageing contacts grow stronger at
+/// rest, so a falling term is not that physics, whatever its evidence (session 94: used
+/// temperature record 34579 printed a significant term of -16 N as "the breakaway force grows
+/// with time at rest").
+pub const DWELL_FALLS_MEANING: &str = "the breakaway force falls with time at rest: not the \
+     junction growth of dwell stiction (which raises it), but a level the model misses at the \
+     departures; look for the effect that shapes them";
+
+/// What effect `info`'s candidate fitted as `model` means physically: the effect's meaning,
+/// or [`DWELL_FALLS_MEANING`] for a dwell term whose level falls with the rest time.
+fn meaning_of(info: &EffectInfo, model: &AxisModel) -> &'static str {
+    match model.friction.effects.dwell_stiction {
+        Some(d) if info.kind == EffectKind::DwellStiction && d.max_increase < 0.0 => {
+            DWELL_FALLS_MEANING
+        }
+        _ => info.meaning,
+    }
+}
+
 /// The grid objective of an effect's nonlinear parameter: the residual sum of squares, or, where
 /// the parameter is a model order (the cosine terms of `position_dependence`), the RSS
 /// penalised by the information criterion, `RSS N^(n / N)` (`N ln RSS + n ln N` in BIC form),
@@ -1637,6 +1657,36 @@ mod tests {
             nonlinear_excludes_null: true,
             ..Candidate::unscored(effect_info(EffectKind::DwellStiction))
         }
+    }
+
+    /// A dwell term whose level falls with the rest time is not said to grow with it; a
+    /// rising one is, and no other effect's meaning depends on the dwell term its model holds.
+    #[test]
+    fn a_falling_dwell_term_is_not_said_to_grow_with_rest() {
+        use lugre_servo::friction::effects::{DwellAge, DwellClock, DwellStiction};
+        let params = LugreParams::new(1e7, 1e3, 100.0, 100.0, 150.0, 0.01).unwrap();
+        let with_dwell = |max_increase: f64| {
+            let mut model = AxisModel {
+                mass_kg: 100.0,
+                friction: FrictionModel::plain(params),
+            };
+            model.friction.effects.dwell_stiction = Some(DwellStiction {
+                max_increase,
+                time_constant: 0.5,
+                stick_velocity: 1e-4,
+                renewal_distance: 1e-3,
+                age_at_stick: DwellAge::Accumulates,
+                clock: DwellClock::BodySpeed,
+            });
+            model
+        };
+        let dwell = effect_info(EffectKind::DwellStiction);
+        assert_eq!(meaning_of(dwell, &with_dwell(-16.0)), DWELL_FALLS_MEANING);
+        assert_eq!(meaning_of(dwell, &with_dwell(16.0)), dwell.meaning);
+        assert!(dwell.meaning.contains("grows"), "{}", dwell.meaning);
+        assert!(!DWELL_FALLS_MEANING.contains("grows"));
+        let offset = effect_info(EffectKind::Offset);
+        assert_eq!(meaning_of(offset, &with_dwell(-16.0)), offset.meaning);
     }
 
     /// A leading candidate is pointed out only between the two cuts, and only on strong

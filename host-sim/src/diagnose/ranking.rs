@@ -915,6 +915,7 @@ fn judge(
         clock: rule.map(|r| r.clock),
     });
     Candidate {
+        meaning: super::meaning_of(info, &fit.model).into(),
         rel_err_pct: Some(fit.rel_err_pct),
         delta_bic: Some(dbic),
         peak_delta_bic: peaks,
