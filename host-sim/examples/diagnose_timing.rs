@@ -84,12 +84,22 @@ fn main() {
     let takes_value = |flag: &str| {
         ["--json", "--contact", "--axes"].contains(&flag) || Sensors::FLAGS.contains(&flag)
     };
-    let mut seeds: Vec<u64> = args
-        .iter()
-        .enumerate()
-        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || !takes_value(&args[i - 1])))
-        .map(|(_, a)| a.parse().expect("a seed is a whole number"))
-        .collect();
+    // seeds as separate arguments or comma-separated (`1139 1140` or `1139,1140`)
+    let mut seeds: Vec<u64> = Vec::new();
+    for (i, a) in args.iter().enumerate() {
+        if a.starts_with("--") || (i > 0 && takes_value(&args[i - 1])) {
+            continue;
+        }
+        for s in a.split(',').filter(|s| !s.is_empty()) {
+            match s.parse() {
+                Ok(seed) => seeds.push(seed),
+                Err(_) => {
+                    eprintln!("error: argument {}: seed {s:?} is not a whole number", i + 1);
+                    std::process::exit(2);
+                }
+            }
+        }
+    }
     if seeds.is_empty() {
         seeds = (1000..=1004).collect();
     }
