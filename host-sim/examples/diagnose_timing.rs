@@ -94,7 +94,10 @@ fn main() {
             match s.parse() {
                 Ok(seed) => seeds.push(seed),
                 Err(_) => {
-                    eprintln!("error: argument {}: seed {s:?} is not a whole number", i + 1);
+                    eprintln!(
+                        "error: argument {}: seed {s:?} is not a whole number",
+                        i + 1
+                    );
                     std::process::exit(2);
                 }
             }
