@@ -1625,7 +1625,12 @@ fn a_skew_that_bent_the_baseline_is_found_by_searching_each_reading() {
         diagnose::diagnose(&rec, "axis.csv", &opts).unwrap()
     };
     let chosen = run(false);
-    assert_eq!(chosen.prepared.force_skew_samples, 0.5, "{}", report(&chosen));
+    assert_eq!(
+        chosen.prepared.force_skew_samples,
+        0.5,
+        "{}",
+        report(&chosen)
+    );
     assert_eq!(
         first_significant(&chosen.stages[0].candidates),
         None,
