@@ -604,8 +604,6 @@ fn offset_in_place_pct(p: &host_sim::diagnose::inverse::Prepared, base: &[f64]) 
     p.rel_err_pct(&base.iter().map(|f| f + best).collect::<Vec<f64>>())
 }
 
-/// An error [%] within 1.2x the noise floor [%]: issue 9's bar for a model with the right
-/// effect.
 /// The cut of the baseline's error by which the generator's true model, its dwell clock run on
 /// the measured motion, counts a dwell record as one the motion shows (session 94, registered
 /// in `docs/registrations/s94/prereg.txt` before its never-run records were diagnosed; on 50
@@ -618,6 +616,8 @@ fn shown_by_the_motion(truth_on_motion_pct: f64, baseline_pct: f64) -> bool {
     truth_on_motion_pct <= (1.0 - SHOWN_BY_THE_MOTION_CUT) * baseline_pct
 }
 
+/// An error [%] within 1.2x the noise floor [%]: issue 9's bar for a model with the right
+/// effect.
 fn within_floor(error_pct: f64, floor_pct: f64) -> bool {
     error_pct <= 1.2 * floor_pct
 }

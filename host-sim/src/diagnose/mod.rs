@@ -1467,7 +1467,9 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
 /// tried, whose force comes from pressures sampled with the position; on the force-actuated
 /// records the generator logs the force of the period before, and its three false positives
 /// there erred 0.48, 0.60 and 0.70x read +0.5 (the whole diagnosis at +0.5 found nothing on
-/// two of them).
+/// two of them). Those were linear refits; since session 94 each reading's vs and sigma0 are
+/// searched once too, and the cut was kept: on the same 50 records and on 80 used effect-free
+/// records of the axes every choice stayed what it was.
 pub const FORCE_READING_MIN_CUT: f64 = 0.25;
 
 /// The force read half a sample later or earlier than `p` reads it, where that lets the
