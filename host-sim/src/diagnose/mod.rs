@@ -1502,6 +1502,17 @@ fn choose_force_reading(
     weights: &[f64],
     fixed_mass: Option<f64>,
 ) -> Option<(Prepared, Protocol)> {
+    // each reading's baseline: its linear parameters refitted, then vs and sigma0 searched once
+    let searched = |q: &Prepared| {
+        let n_eff = fit::effective_samples(q, protocol.parallel_cutoff_hz);
+        let refit = fit::refit(&base.model, q, fixed_mass, n_eff);
+        let on = fit::Fitting {
+            p: q,
+            fixed_mass,
+            n_eff,
+        };
+        polish(&refit, None, on, Search::FIRST_BASELINE).rel_err_pct
+    };
     let read = |skew: f64| {
         let at = Protocol {
             force_skew_samples: protocol.force_skew_samples + skew,
@@ -1511,30 +1522,24 @@ fn choose_force_reading(
             .ok()
             .filter(|q| q.len() == p.len())?;
         q.reweigh(weights);
-        let n_eff = fit::effective_samples(&q, protocol.parallel_cutoff_hz);
-        let refit = fit::refit(&base.model, &q, fixed_mass, n_eff);
-        let on = fit::Fitting {
-            p: &q,
-            fixed_mass,
-            n_eff,
-        };
-        let e = polish(&refit, None, on, Search::FIRST_BASELINE).rel_err_pct;
-        Some((e, q, at))
+        Some((searched(&q), q, at))
     };
-    // the log read again (prepared and weighed as the others are) for its own search
+    // the log (`p`, already weighed) gets the same search, so that what a search gains on any
+    // reading is not counted as the skew's
     let (later, (earlier, as_logged)) =
-        rayon::join(|| read(0.5), || rayon::join(|| read(-0.5), || read(0.0)));
-    let logged = as_logged.map_or(base.rel_err_pct, |l| l.0.min(base.rel_err_pct));
+        rayon::join(|| read(0.5), || rayon::join(|| read(-0.5), || searched(p)));
+    let logged = as_logged.min(base.rel_err_pct);
     let (e, mut q, at) = later
         .into_iter()
         .chain(earlier)
         .min_by(|a, b| a.0.total_cmp(&b.0))?;
     (e <= (1.0 - FORCE_READING_MIN_CUT) * logged).then(|| {
         q.notes.push(format!(
-            "read {:+.1} samples off the log, the baseline (refitted, its Stribeck velocity and \
-             stiffness searched once) errs {e:.2} % against {logged:.2} % with the force as logged: the force is read so (a logger that \
-             writes beside each position the force of the period before it, or after it); \
-             give --force-skew to read it otherwise",
+            "read {:+.1} samples off the log, the baseline (refitted, its Stribeck velocity \
+             and stiffness searched once) errs {e:.2} % against {logged:.2} % with the force \
+             as logged: the force is read so (a logger that writes beside each position the \
+             force of the period before it, or after it); give --force-skew to read it \
+             otherwise",
             at.force_skew_samples - protocol.force_skew_samples
         ));
         (q, at)

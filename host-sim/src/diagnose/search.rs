@@ -397,8 +397,8 @@ impl Search {
     };
     /// The rivals of a close call searched again (`ranking::settle_close_call`): a stage's
     /// search (vs, sigma0 and the effect's own parameter, an asymmetry's Stribeck velocity
-    /// ratio too, two rounds) without its refinement. A candidate's fit stops short of its stage where the
-    /// missing effect bent the Stribeck curve and the stiffness. The refinement took a quarter
+    /// ratio too, two rounds) without its refinement. A candidate's fit stops short of its
+    /// stage where the missing effect bent the Stribeck curve and the stiffness. The refinement took a quarter
     /// of a settlement's time and moved no answer on the five used records that studied it
     /// (session 93: temperature 1131 2.83 -> 2.11 s). The stiffness stays: searched without it
     /// (half the time), a dwell term took up the breakaway peaks the stiffness shapes on
