@@ -421,7 +421,8 @@ impl Search {
 /// Stribeck velocity (and, with [`Search::stiffness`], sigma0), then the added effect's own
 /// nonlinear parameter, alternating [`Search::rounds`] times. The symmetric baseline's values
 /// are biased when an effect was missing (it bends its Stribeck curve to mimic the effect), so
-/// an effect is only judged fairly once they have moved.
+/// an effect is only judged fairly once they have moved. A step is not run again from a fit
+/// that has not moved since it last ran (`StepMemo`): the answer would be the same.
 pub fn polish(current: &Fit, effect: Option<EffectKind>, on: Fitting<'_>, search: Search) -> Fit {
     let Search {
         rounds,
@@ -435,30 +436,102 @@ pub fn polish(current: &Fit, effect: Option<EffectKind>, on: Fitting<'_>, search
     } else {
         &[Nonlinear::StribeckVelocity]
     };
+    let mut steps = StepMemo::<Fit>::default();
     for round in 0..rounds {
-        for which in searched {
+        // an answer is worth keeping only for a round still to come
+        let later = round + 1 < rounds;
+        for (k, which) in searched.iter().enumerate() {
             // the last round of a full polish (a stage's model, not a candidate's quick re-judging)
             // ends with a continuous refinement
             let refined = refine && round + 1 == rounds;
-            let f = search_one(*which, &best, on, refined);
-            // on the last round a parameter the record does not determine goes to its prior
-            // (the profile is flat: the fit changes by less than the 95 % threshold)
-            let held = round + 1 == rounds && f.flags.is_prior(which.name());
-            if f.rss < best.rss || held {
-                best = f;
+            let searched_one = steps.run(k, refined, later, || {
+                Some(search_one(*which, &best, on, refined))
+            });
+            if let Some(f) = searched_one {
+                // on the last round a parameter the record does not determine goes to its
+                // prior (the profile is flat: the fit changes by less than the 95 % threshold)
+                let held = round + 1 == rounds && f.flags.is_prior(which.name());
+                if f.rss < best.rss || held {
+                    best = f;
+                    steps.moved();
+                }
             }
         }
+        let k = searched.len();
         if stribeck_ratio {
-            if let Some(f) = search_stribeck_ratio(&best, on) {
+            if let Some(f) = steps.run(k, false, later, || search_stribeck_ratio(&best, on)) {
                 best = f;
+                steps.moved();
             }
         }
-        if let Some(f) = effect.and_then(|e| regrid_effect(&best, e, on)) {
+        let regridded = steps.run(k + 1, false, later, || {
+            effect.and_then(|e| regrid_effect(&best, e, on))
+        });
+        if let Some(f) = regridded {
             best = f;
+            steps.moved();
         }
     }
     mark_unidentified_linear(&mut best, on);
     best
+}
+
+/// What each step of a [`polish`] found, and from which start: a step is a function of the
+/// fit it starts from (and whether it refines), so where no step has moved the fit since a
+/// step last ran, running it again gives the same fit bit for bit and its answer is reused. A
+/// round that moved nothing would otherwise be repeated at full cost: on temperature record
+/// 34579 the close call's three searches (two rounds, about 2 s each) left every fit where it
+/// was, so each second round repeated the first.
+struct StepMemo<T> {
+    /// How many times the polished fit has moved.
+    moves: usize,
+    /// Per step: the moves counted when it ran, whether it refined, and what it returned.
+    last: Vec<Option<(usize, bool, Option<T>)>>,
+}
+
+impl<T> Default for StepMemo<T> {
+    fn default() -> Self {
+        Self {
+            moves: 0,
+            last: Vec::new(),
+        }
+    }
+}
+
+impl<T: Clone> StepMemo<T> {
+    /// Step `k`'s answer from the fit as it stands: `step` run, or what it returned when it
+    /// last ran from this same fit with the same `refined`. The answer is kept for a later
+    /// round only with `keep` (a fit is half a megabyte on a 60 s record: copying one for a
+    /// round that will not come cost 1 % of a record's time, session 95).
+    fn run(
+        &mut self,
+        k: usize,
+        refined: bool,
+        keep: bool,
+        step: impl FnOnce() -> Option<T>,
+    ) -> Option<T> {
+        if self.last.len() <= k {
+            self.last.resize_with(k + 1, || None);
+        }
+        if let Some((moves, r, answer)) = self.last[k].take() {
+            if moves == self.moves && r == refined {
+                if keep {
+                    self.last[k] = Some((moves, r, answer.clone()));
+                }
+                return answer;
+            }
+        }
+        let answer = step();
+        if keep {
+            self.last[k] = Some((self.moves, refined, answer.clone()));
+        }
+        answer
+    }
+
+    /// The polished fit moved: every answer so far was found from another start.
+    fn moved(&mut self) {
+        self.moves += 1;
+    }
 }
 
 /// The name of the asymmetry's Stribeck velocity ratio, as the parameter file names it.
@@ -615,5 +688,53 @@ pub(super) fn nonlinear_value(m: &AxisModel, effect: EffectKind) -> Option<f64> 
         EffectKind::PositionDependence => e.position_dependence.map(|x| x.terms as f64),
         EffectKind::LoadDependence => e.load_dependence.map(|l| l.terms as f64),
         EffectKind::Asymmetry | EffectKind::Offset => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::StepMemo;
+    use std::cell::Cell;
+
+    /// A step runs again only when the fit moved since it last ran, its refinement setting
+    /// differs or its answer was not kept; otherwise its last answer comes back, `None`
+    /// included.
+    #[test]
+    fn a_step_is_reused_only_from_the_same_unmoved_fit() {
+        let runs = Cell::new(0);
+        let step = |answer: Option<u32>| {
+            let runs = &runs;
+            move || {
+                runs.set(runs.get() + 1);
+                answer
+            }
+        };
+        let mut memo = StepMemo::<u32>::default();
+        assert_eq!(memo.run(0, false, true, step(Some(1))), Some(1));
+        assert_eq!(memo.run(1, false, true, step(None)), None);
+        assert_eq!(runs.get(), 2);
+        // a second round from the same fit: both answers reused, the closures not run
+        assert_eq!(memo.run(0, false, true, step(Some(7))), Some(1));
+        assert_eq!(memo.run(1, false, true, step(Some(7))), None);
+        assert_eq!(runs.get(), 2);
+        // the same step refined is another computation
+        assert_eq!(memo.run(0, true, true, step(Some(3))), Some(3));
+        assert_eq!(runs.get(), 3);
+        // once the fit moves, every step runs again
+        memo.moved();
+        assert_eq!(memo.run(1, false, true, step(Some(4))), Some(4));
+        assert_eq!(memo.run(0, true, true, step(Some(5))), Some(5));
+        assert_eq!(runs.get(), 5);
+        // step 1 ran after the move, so it is reused while nothing moves
+        assert_eq!(memo.run(1, false, true, step(Some(9))), Some(4));
+        assert_eq!(runs.get(), 5);
+        // an answer not kept (no round to come) is not there for a later call
+        assert_eq!(memo.run(2, false, false, step(Some(6))), Some(6));
+        assert_eq!(memo.run(2, false, true, step(Some(8))), Some(8));
+        assert_eq!(runs.get(), 7);
+        // nor is one handed out on its last use
+        assert_eq!(memo.run(2, false, false, step(Some(10))), Some(8));
+        assert_eq!(memo.run(2, false, true, step(Some(11))), Some(11));
+        assert_eq!(runs.get(), 8);
     }
 }
