@@ -1504,14 +1504,12 @@ fn choose_force_reading(
 ) -> Option<(Prepared, Protocol)> {
     // each reading's baseline: its linear parameters refitted, then vs and sigma0 searched once
     let searched = |q: &Prepared| {
-        let n_eff = fit::effective_samples(q, protocol.parallel_cutoff_hz);
-        let refit = fit::refit(&base.model, q, fixed_mass, n_eff);
         let on = fit::Fitting {
             p: q,
             fixed_mass,
-            n_eff,
+            n_eff: fit::effective_samples(q, protocol.parallel_cutoff_hz),
         };
-        polish(&refit, None, on, Search::FIRST_BASELINE).rel_err_pct
+        polish(&on.refit(&base.model), None, on, Search::FIRST_BASELINE).rel_err_pct
     };
     let read = |skew: f64| {
         let at = Protocol {

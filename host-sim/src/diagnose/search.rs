@@ -398,11 +398,11 @@ impl Search {
     /// The rivals of a close call searched again (`ranking::settle_close_call`): a stage's
     /// search (vs, sigma0 and the effect's own parameter, an asymmetry's Stribeck velocity
     /// ratio too, two rounds) without its refinement. A candidate's fit stops short of its
-    /// stage where the missing effect bent the Stribeck curve and the stiffness. The refinement took a quarter
-    /// of a settlement's time and moved no answer on the five used records that studied it
-    /// (session 93: temperature 1131 2.83 -> 2.11 s). The stiffness stays: searched without it
-    /// (half the time), a dwell term took up the breakaway peaks the stiffness shapes on
-    /// Stribeck record 1504 and was named.
+    /// stage where the missing effect bent the Stribeck curve and the stiffness. The
+    /// refinement took a quarter of a settlement's time and moved no answer on the five used
+    /// records that studied it (session 93: temperature 1131 2.83 -> 2.11 s). The stiffness
+    /// stays: searched without it (half the time), a dwell term took up the breakaway peaks the
+    /// stiffness shapes on Stribeck record 1504 and was named.
     pub const CLOSE_CALL: Self = Self {
         refine: false,
         ..Self::STAGE
@@ -438,19 +438,20 @@ pub fn polish(current: &Fit, effect: Option<EffectKind>, on: Fitting<'_>, search
     };
     let mut steps = StepMemo::<Fit>::default();
     for round in 0..rounds {
+        let last = round + 1 == rounds;
         // an answer is worth keeping only for a round still to come
-        let later = round + 1 < rounds;
+        let later = !last;
+        // the last round of a full polish (a stage's model, not a candidate's quick
+        // re-judging) ends with a continuous refinement
+        let refined = refine && last;
         for (k, which) in searched.iter().enumerate() {
-            // the last round of a full polish (a stage's model, not a candidate's quick re-judging)
-            // ends with a continuous refinement
-            let refined = refine && round + 1 == rounds;
             let searched_one = steps.run(k, refined, later, || {
                 Some(search_one(*which, &best, on, refined))
             });
             if let Some(f) = searched_one {
                 // on the last round a parameter the record does not determine goes to its
                 // prior (the profile is flat: the fit changes by less than the 95 % threshold)
-                let held = round + 1 == rounds && f.flags.is_prior(which.name());
+                let held = last && f.flags.is_prior(which.name());
                 if f.rss < best.rss || held {
                     best = f;
                     steps.moved();
