@@ -194,6 +194,9 @@ struct Row {
     /// the baseline's candidates searched again to settle a close call
     /// (`diagnose::CLOSE_CALL`, `Candidate::settled_close_call`)
     settled: Vec<String>,
+    /// the leader of a close call not searched again: its rivals, searched again, stayed below
+    /// its evidence (`Candidate::unchallenged_close_call`)
+    unchallenged: Vec<String>,
     /// the baseline's candidates whose fit from the asymmetric static table won over their fit
     /// from the model (`diagnose::TABLE_SPANNED`, `Candidate::from_static_table`)
     from_table: Vec<String>,
@@ -803,6 +806,7 @@ fn run(
         peak_trend_dbic: f64::NAN,
         restarts: 0,
         settled: Vec::new(),
+        unchallenged: Vec::new(),
         from_table: Vec::new(),
         // the generator's hydraulic records read the force from pressures sampled with the
         // position: no skew to undo there
@@ -900,6 +904,7 @@ fn run(
         .map(|t| (t.delta_bic, t.increase_n, t.increase_ci_n));
     row.restarts = d.stages[0].restarts.len();
     row.settled = d.stages[0].named_where(|c| c.settled_close_call);
+    row.unchallenged = d.stages[0].named_where(|c| c.unchallenged_close_call);
     row.from_table = d.stages[0].named_where(|c| c.from_static_table);
     row.motion_spread_pct = d.motion_spread_pct;
     row.scored_fraction = p.scored_fraction();

@@ -453,9 +453,14 @@ pub struct Candidate {
     /// Searched again ([`polish`] with [`Search::CLOSE_CALL`]) and judged on that fit: a
     /// close call in the stage's final ranking, its error within
     /// [`CLOSE_CALL`] of the first significant candidate's, or that first candidate itself
-    /// (see `settle_close_call`).
+    /// where one of those, searched again, reached its evidence (see `settle_close_call`).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub settled_close_call: bool,
+    /// The first significant candidate of a close call whose rivals, searched again, stayed
+    /// below its evidence as it stood: its own fit was not searched again (see
+    /// `settle_close_call`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub unchallenged_close_call: bool,
     /// Where this candidate is the simpler effect of a nested pair ([`NESTED`]) and the
     /// answer: the larger effect judged on top of it, and why the simpler one was kept (only on
     /// a significant candidate: a close call judged again keeps it while it stays significant,
@@ -662,6 +667,7 @@ impl Candidate {
             from_nested_check: None,
             model_start: None,
             settled_close_call: false,
+            unchallenged_close_call: false,
             kept_over_larger: None,
             nested_check: None,
             beyond_the_measurement: None,

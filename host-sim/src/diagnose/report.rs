@@ -383,6 +383,9 @@ fn verdict(c: &super::Candidate) -> String {
     if c.settled_close_call {
         v += &format!(" ({})", super::SETTLED_CLOSE_CALL);
     }
+    if c.unchallenged_close_call {
+        v += &format!(" ({})", super::UNCHALLENGED_CLOSE_CALL);
+    }
     if let Some(what) = c.saturated_note() {
         v += &format!(" ({what})");
     }
