@@ -339,8 +339,9 @@ pub const UNCHALLENGED_CLOSE_CALL: &str =
 /// Settles a close call in a stage's final ranking on fits that have converged further:
 /// when other significant candidates score within [`CLOSE_CALL`] of the first significant
 /// one's error, each of them is searched again from its candidate's start, and the first too
-/// where one of them then reaches the first's evidence as it stood (until session 96 the first
-/// always, side by side with its rivals; [`Candidate::unchallenged_close_call`] where not)
+/// where one of them then reaches the first's evidence as it stood, or where the first is the
+/// dwell term (until session 96 the first always, side by side with its rivals;
+/// [`Candidate::unchallenged_close_call`] where not)
 /// ([`polish`] with [`Search::CLOSE_CALL`]: the Stribeck velocity, the stiffness and the
 /// effect's own parameter, two rounds; until session 93 a stage's search, a refinement
 /// too), kept where they score better, judged again on the final verdict's yardstick, and the
@@ -387,9 +388,14 @@ fn settle_close_call(out: &mut [Candidate], on: &Scope, current: &Fit) {
     // dependence with 16 terms, stayed at half the leader's evidence.
     polish_again(out, &rivals, Search::CLOSE_CALL, on, &reference, n_c);
     let lead_dbic = out[lead].delta_bic.unwrap_or(f64::INFINITY);
-    let challenged = rivals
-        .iter()
-        .any(|&j| out[j].significant && out[j].delta_bic.is_some_and(|d| d >= lead_dbic));
+    // A leading dwell term is always searched again: its significance rests on its growth with
+    // the rest time against its rest-independent twin, which its own search moves too (on
+    // stick-slip Stribeck record 1504 the leading dwell term, searched again, erred less and
+    // lost its significance, and the Stribeck shape was named).
+    let challenged = out[lead].kind == EffectKind::DwellStiction
+        || rivals
+            .iter()
+            .any(|&j| out[j].significant && out[j].delta_bic.is_some_and(|d| d >= lead_dbic));
     if challenged {
         polish_again(out, &[lead], Search::CLOSE_CALL, on, &reference, n_c);
     }
