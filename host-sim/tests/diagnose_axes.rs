@@ -807,7 +807,9 @@ fn the_first_baseline_sets_the_weights_the_full_search_would() {
 /// less than over every moving sample alike, since the weights discount the abrupt stops
 /// where it errs most, and the Stribeck shape is the first significant candidate. Without the
 /// weights the two errors are one. (Until session 24 the unweighted fit missed the Stribeck
-/// shape here; with the bristle carrying the measured force at rest it finds it too.)
+/// shape here; with the bristle carrying the measured force at rest it finds it too.) The
+/// weighted ranking is a close call led by the dwell term, which searched again loses its
+/// significance: a close call's leading dwell term is always searched again (session 96).
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn the_motion_weights_discount_the_abrupt_stops_of_a_stick_slip_record() {

@@ -458,7 +458,7 @@ pub struct Candidate {
     pub settled_close_call: bool,
     /// The first significant candidate of a close call whose rivals, searched again, stayed
     /// below its evidence as it stood: its own fit was not searched again (see
-    /// `settle_close_call`).
+    /// `settle_close_call`; never the dwell term, which is always searched again).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub unchallenged_close_call: bool,
     /// Where this candidate is the simpler effect of a nested pair ([`NESTED`]) and the

@@ -383,9 +383,8 @@ fn settle_close_call(out: &mut [Candidate], on: &Scope, current: &Fit) {
     // The rivals first: the leader's own search is needed only where one of them, searched
     // again, reaches the leader's evidence as it stands (a search keeps a fit only where its
     // error falls, so the leader's evidence can only rise, save the breakaway peaks' share).
-    // On never-run temperature record 1144
-    // the leader's search took 1.8 s of the close call's 2.6, and its rival, a position
-    // dependence with 16 terms, stayed at half the leader's evidence.
+    // On temperature timing record 1144 the leader's search took 1.8 s of the close call's
+    // 2.6, and its rival, a position dependence with 16 terms, stayed at half its evidence.
     polish_again(out, &rivals, Search::CLOSE_CALL, on, &reference, n_c);
     let lead_dbic = out[lead].delta_bic.unwrap_or(f64::INFINITY);
     // A leading dwell term is always searched again: its significance rests on its growth with
