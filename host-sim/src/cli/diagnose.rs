@@ -552,20 +552,11 @@ fn print_candidates(s: &diagnose::Stage) {
         }
     }
     // how some candidates were fitted: one line each, naming them
-    type Flag = fn(&diagnose::Candidate) -> bool;
-    let how: [(Flag, &str); 5] = [
-        (|c| c.fitted_before_restart, diagnose::FITTED_BEFORE_RESTART),
-        (|c| c.settled_close_call, diagnose::SETTLED_CLOSE_CALL),
-        (
-            |c| c.unchallenged_close_call,
-            diagnose::UNCHALLENGED_CLOSE_CALL,
-        ),
-        (|c| c.from_static_table, diagnose::FROM_STATIC_TABLE),
-        (
-            |c| c.from_nested_check.is_some(),
-            diagnose::FROM_NESTED_CHECK,
-        ),
-    ];
+    let nested: (diagnose::CandidateFlag, &str) = (
+        |c| c.from_nested_check.is_some(),
+        diagnose::FROM_NESTED_CHECK,
+    );
+    let how = diagnose::HOW_FITTED.into_iter().chain([nested]);
     for (which, what) in how {
         let named = s.named_where(which);
         if !named.is_empty() {

@@ -582,6 +582,19 @@ pub fn stroke_levels(pd: &PositionDependence<f64>) -> (f64, f64) {
         })
 }
 
+/// Whether something holds of a candidate ([`Stage::named_where`], [`HOW_FITTED`]).
+pub type CandidateFlag = fn(&Candidate) -> bool;
+
+/// How some candidates were fitted, each a flag of [`Candidate`] and the sentence the text
+/// output (one line naming the candidates) and the report (beside each verdict) say of it.
+/// [`Candidate::from_nested_check`] is said too, with the error its own search had reached.
+pub const HOW_FITTED: [(CandidateFlag, &str); 4] = [
+    (|c| c.fitted_before_restart, FITTED_BEFORE_RESTART),
+    (|c| c.settled_close_call, SETTLED_CLOSE_CALL),
+    (|c| c.unchallenged_close_call, UNCHALLENGED_CLOSE_CALL),
+    (|c| c.from_static_table, FROM_STATIC_TABLE),
+];
+
 impl Candidate {
     /// Its parameters as the candidate lists show them (the CLI's and the report's), one text
     /// each: `name = value [low, high]`, the 95 % interval, with a note where the value ended
@@ -793,8 +806,8 @@ impl Stage {
     }
 
     /// The names of the stage's candidates for which `flag` holds, in ranking order (how some
-    /// were fitted: [`Candidate::settled_close_call`], [`Candidate::from_static_table`], ...).
-    pub fn named_where(&self, flag: fn(&Candidate) -> bool) -> Vec<String> {
+    /// were fitted: [`HOW_FITTED`], ...).
+    pub fn named_where(&self, flag: CandidateFlag) -> Vec<String> {
         self.candidates
             .iter()
             .filter(|c| flag(c))

@@ -377,20 +377,13 @@ fn verdict(c: &super::Candidate) -> String {
             (None, None) => "not significant".into(),
         },
     };
-    if c.fitted_before_restart {
-        v += &format!(" ({})", super::FITTED_BEFORE_RESTART);
-    }
-    if c.settled_close_call {
-        v += &format!(" ({})", super::SETTLED_CLOSE_CALL);
-    }
-    if c.unchallenged_close_call {
-        v += &format!(" ({})", super::UNCHALLENGED_CLOSE_CALL);
+    for (flag, what) in super::HOW_FITTED {
+        if flag(c) {
+            v += &format!(" ({what})");
+        }
     }
     if let Some(what) = c.saturated_note() {
         v += &format!(" ({what})");
-    }
-    if c.from_static_table {
-        v += &format!(" ({})", super::FROM_STATIC_TABLE);
     }
     if let Some(own) = c.from_nested_check {
         v += &format!(

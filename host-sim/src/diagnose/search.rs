@@ -438,14 +438,13 @@ pub fn polish(current: &Fit, effect: Option<EffectKind>, on: Fitting<'_>, search
     };
     let mut steps = StepMemo::<Fit>::default();
     for round in 0..rounds {
+        // an answer is worth keeping (`!last`) only for a round still to come
         let last = round + 1 == rounds;
-        // an answer is worth keeping only for a round still to come
-        let later = !last;
         // the last round of a full polish (a stage's model, not a candidate's quick
         // re-judging) ends with a continuous refinement
         let refined = refine && last;
         for (k, which) in searched.iter().enumerate() {
-            let searched_one = steps.run(k, refined, later, || {
+            let searched_one = steps.run(k, refined, !last, || {
                 Some(search_one(*which, &best, on, refined))
             });
             if let Some(f) = searched_one {
@@ -460,12 +459,12 @@ pub fn polish(current: &Fit, effect: Option<EffectKind>, on: Fitting<'_>, search
         }
         let k = searched.len();
         if stribeck_ratio {
-            if let Some(f) = steps.run(k, false, later, || search_stribeck_ratio(&best, on)) {
+            if let Some(f) = steps.run(k, false, !last, || search_stribeck_ratio(&best, on)) {
                 best = f;
                 steps.moved();
             }
         }
-        let regridded = steps.run(k + 1, false, later, || {
+        let regridded = steps.run(k + 1, false, !last, || {
             effect.and_then(|e| regrid_effect(&best, e, on))
         });
         if let Some(f) = regridded {
