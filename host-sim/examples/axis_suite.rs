@@ -26,6 +26,9 @@
 //! schedules and noise otherwise. `--axes issue` draws the axes issue 9 describes its own check
 //! on (`generators::axis::Axes::Issue`: an ideal force actuator, 100..400 kg, soft and
 //! well-damped contacts), the same levels, effects, schedules and noise otherwise.
+//! `--dwell-law aging` ages dwell contacts by Dieterich and Ruina's aging law in place of an
+//! age that any slip renews (`generators::axis::DwellLaw`); records without dwell stiction are
+//! the same.
 //! `--write DIR
 //! [--seed N]` writes one record per effect to try.
 //!
@@ -45,7 +48,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_of, Axes, ContactKind, Family, Sensors, EFFECTS};
+use generators::axis::{random_record_of, Axes, ContactKind, DwellLaw, Family, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -264,6 +267,10 @@ fn main() {
     let contact = ContactKind::from_args(&args);
     let family = Family::from_args(&args);
     let axes = Axes::from_args(&args);
+    let law = DwellLaw::from_args(&args);
+    let draw = |e: Option<&'static str>, seed: u64| {
+        random_record_of(e, seed, sensors, contact, family, axes, law)
+    };
     let num = |i: usize, d: u64| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let per_effect = num(1, 10);
     let free = num(2, 50);
@@ -285,7 +292,7 @@ fn main() {
             .and_then(|s| s.parse().ok())
             .unwrap_or(1000);
         for e in std::iter::once(None).chain(EFFECTS.map(Some)) {
-            let (text, axis) = random_record_of(e, seed, sensors, contact, family, axes);
+            let (text, axis) = draw(e, seed);
             let path = Path::new(dir).join(format!("{}.csv", e.unwrap_or("none")));
             std::fs::write(&path, text).expect("write");
             println!("{}: {axis:?}", path.display());
@@ -334,7 +341,7 @@ fn main() {
     let rows: Vec<Row> = jobs
         .par_iter()
         .map(|&(effect, seed, set)| {
-            let row = run(effect, seed, set, sensors, contact, family, axes);
+            let row = run(effect, seed, set, &draw);
             bar.inc(1);
             row
         })
@@ -762,12 +769,9 @@ fn run(
     effect: Option<&'static str>,
     seed: u64,
     set: &'static str,
-    sensors: Sensors,
-    contact: ContactKind,
-    family: Family,
-    axes: Axes,
+    draw: &impl Fn(Option<&'static str>, u64) -> (String, generators::axis::Axis),
 ) -> Row {
-    let (text, axis) = random_record_of(effect, seed, sensors, contact, family, axes);
+    let (text, axis) = draw(effect, seed);
     let hidden = effect.unwrap_or("none").to_string();
     let mut row = Row {
         set,

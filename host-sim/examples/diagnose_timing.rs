@@ -30,7 +30,7 @@
 #[path = "../tests/generators/mod.rs"]
 mod generators;
 
-use generators::axis::{random_record_of, Axes, ContactKind, Family, Sensors, EFFECTS};
+use generators::axis::{random_record_of, Axes, ContactKind, DwellLaw, Family, Sensors, EFFECTS};
 use host_sim::diagnose::{self, Options};
 use host_sim::record::Record;
 use std::path::Path;
@@ -81,8 +81,10 @@ fn main() {
     let sensors = Sensors::from_args(&args);
     let contact = ContactKind::from_args(&args);
     let axes = Axes::from_args(&args);
+    let law = DwellLaw::from_args(&args);
     let takes_value = |flag: &str| {
-        ["--json", "--contact", "--axes"].contains(&flag) || Sensors::FLAGS.contains(&flag)
+        ["--json", "--contact", "--axes", "--dwell-law"].contains(&flag)
+            || Sensors::FLAGS.contains(&flag)
     };
     // seeds as separate arguments or comma-separated (`1139 1140` or `1139,1140`)
     let mut seeds: Vec<u64> = Vec::new();
@@ -114,7 +116,7 @@ fn main() {
     for &seed in &seeds {
         for effect in std::iter::once(None).chain(EFFECTS.map(Some)) {
             let name = effect.unwrap_or("none");
-            let (text, _) = random_record_of(effect, seed, sensors, contact, Family::A, axes);
+            let (text, _) = random_record_of(effect, seed, sensors, contact, Family::A, axes, law);
             let path = format!("{name}-{seed}.csv");
             let start = Instant::now();
             let rec = Record::parse(&text, Path::new(&path)).expect("a generated record parses");

@@ -13,14 +13,21 @@
 //!   moves;
 //! - `ages SEED [--resets]`: the diagnosis's own dwell candidate run along the record, its age
 //!   at each departure from a rest against the record's clock there, and with `--resets` the
-//!   motion where its age restarts while the record's runs on (session 91).
+//!   motion where its age restarts while the record's runs on (session 91);
+//! - `force [FIRST_SEED] [N]`: the generator's own shape on twelve slip clocks read off the
+//!   measured motion and force (LuGre's `|v| |F| / F_s`, or the body's speed less the
+//!   bristle's `dF/dt / sigma0`), each renewing as the generator's (session 97: none comes
+//!   near the floor on the issue's axes);
+//! - `trace SEED FROM_S TO_S [EVERY]`: the record's age beside the measured motion and
+//!   friction, every EVERY-th sample (default 5).
 //!
 //! `cargo run --release -p host-sim --example dwell_clock_probe -- MODE ...` (seeds default to
 //! 1700 and 10: the first calibration dwell records); `--axes issue` draws the axes issue 9
-//! describes (`generators::axis::Axes::Issue`).
+//! describes (`generators::axis::Axes::Issue`); `--dwell-law aging` ages the records' contacts
+//! by the aging law (`generators::axis::DwellLaw`).
 #[path = "../tests/generators/mod.rs"]
 mod generators;
-use generators::axis::{dwell_record, Axes, Axis, DwellTrace, Shape};
+use generators::axis::{Axes, Axis, DwellLaw, DwellTrace, Shape};
 use host_sim::diagnose::fit::Fit;
 use host_sim::diagnose::inverse::Prepared;
 use host_sim::diagnose::{self, fit, Diagnosis, Options};
@@ -62,7 +69,16 @@ fn renewal_of(axis: &Axis) -> f64 {
 }
 
 fn record(seed: u64, axes: Axes) -> (Record, Axis) {
-    let (text, axis) = dwell_record(seed, axes);
+    let args: Vec<String> = std::env::args().collect();
+    let (text, axis) = generators::axis::random_record_of(
+        Some("dwell_stiction"),
+        seed,
+        generators::axis::Sensors::default(),
+        generators::axis::ContactKind::LuGre,
+        generators::axis::Family::A,
+        axes,
+        DwellLaw::from_args(&args),
+    );
     (Record::parse(&text, Path::new("x.csv")).unwrap(), axis)
 }
 
@@ -318,15 +334,19 @@ fn ages(args: &[String], axes: Axes) {
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let axes = Axes::from_args(&args);
-    if let Some(i) = args.iter().position(|a| a == "--axes") {
-        args.drain(i..(i + 2).min(args.len()));
+    for flag in ["--axes", "--dwell-law"] {
+        if let Some(i) = args.iter().position(|a| a == flag) {
+            args.drain(i..(i + 2).min(args.len()));
+        }
     }
     let mode = args.first().map(String::as_str).unwrap_or("truth");
     match mode {
         "gaps" => return gaps(&args[1..], axes),
         "ages" => return ages(&args[1..], axes),
+        "force" => return force_clocks(&args[1..], axes),
+        "trace" => return trace(&args[1..], axes),
         "truth" | "fit" => {}
-        other => panic!("unknown mode {other}: truth, fit or gaps"),
+        other => panic!("unknown mode {other}: truth, fit, gaps, ages, force or trace"),
     }
     let s0: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1700);
     let n: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(10);
@@ -337,5 +357,136 @@ fn main() {
         .collect();
     for s in out {
         print!("{s}");
+    }
+}
+
+/// A contact-slip clock read off the measured motion and force (study, session 97): the
+/// body's speed over a centred window of `window` samples, and the contact's slip either by
+/// LuGre's `|v| |F| / F_s` (`formula`) or as the body's speed less the bristle's,
+/// `|v - dF/dt / sigma0|`, the force's derivative over the same window. Restarts at every
+/// stick under `stick` [m/s], and a slide forgets the age over the renewal distance, as the
+/// generator's clock.
+fn force_clock(p: &Prepared, axis: &Axis, window: usize, stick: f64, formula: bool) -> Vec<f64> {
+    let f: Vec<f64> = p
+        .force_motion_band
+        .iter()
+        .zip(&p.a)
+        .map(|(f, a)| f - axis.mass_kg * a)
+        .collect();
+    let n = p.len();
+    let renewal = renewal_of(axis);
+    let (mut stuck_s, mut age) = (0.0f64, 0.0f64);
+    (0..n)
+        .map(|i| {
+            let (a, b) = if window <= 1 {
+                (i, i)
+            } else {
+                (i.saturating_sub(window / 2), (i + window / 2).min(n - 1))
+            };
+            let span = (b - a).max(1) as f64 * p.dt;
+            let v = if window <= 1 {
+                p.v[i]
+            } else {
+                (p.x[b] - p.x[a]) / span
+            };
+            let slip = if formula {
+                v.abs() * (f[i].abs() / axis.static_n).min(1.0)
+            } else {
+                let zdot = if window <= 1 {
+                    let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+                    (f[b] - f[a]) / ((b - a).max(1) as f64 * p.dt) / axis.sigma0
+                } else {
+                    (f[b] - f[a]) / span / axis.sigma0
+                };
+                (v - zdot).abs()
+            };
+            // as the generator's clock: the age restarts at each stick, and a slide
+            // forgets it over the renewal distance
+            if slip < stick {
+                stuck_s += p.dt;
+                age = stuck_s;
+            } else {
+                stuck_s = 0.0;
+                age *= (-slip * p.dt / renewal).exp();
+            }
+            age
+        })
+        .collect()
+}
+
+/// `force [FIRST_SEED] [N]`: the generator's truth on force-read slip clocks.
+fn force_clocks(args: &[String], axes: Axes) {
+    let s0: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(1700);
+    let n: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(10);
+    let out: Vec<String> = (s0..s0 + n)
+        .collect::<Vec<_>>()
+        .par_iter()
+        .map(|&seed| {
+            let (rec, axis) = record(seed, axes);
+            let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();
+            let with = |trace: Option<Vec<f64>>| {
+                let a = Axis {
+                    dwell_trace: trace.map(|t| DwellTrace(std::sync::Arc::new(t))),
+                    ..axis.clone()
+                };
+                generators::axis::truth_error_pct(&a, &p)
+            };
+            let no = Axis {
+                shape: Shape::None,
+                ..axis.clone()
+            };
+            let mut s = format!(
+                "{seed} s0 {:.1e} floor {:.2} motion-clock {:.2} no-effect {:.2} |",
+                axis.sigma0,
+                generators::axis::truth_error_pct(&axis, &p),
+                with(None),
+                generators::axis::truth_error_pct(&no, &p),
+            );
+            for formula in [true, false] {
+                for window in [1usize, 10, 30] {
+                    for stick in [5e-5, 1e-4] {
+                        s += &format!(
+                            " {:.2}",
+                            with(Some(force_clock(&p, &axis, window, stick, formula)))
+                        );
+                    }
+                }
+                s += " |";
+            }
+            s + "\n"
+        })
+        .collect();
+    println!(
+        "columns: [formula |v||F|/Fs | |v - dF/dt/sigma0|] x window 1,10,30 x stick 5e-5,1e-4"
+    );
+    for s in out {
+        print!("{s}");
+    }
+}
+
+/// `trace SEED FROM_S TO_S [EVERY]`: the record's age and the measured motion and friction.
+fn trace(args: &[String], axes: Axes) {
+    let seed: u64 = args[0].parse().unwrap();
+    let from: f64 = args[1].parse().unwrap();
+    let to: f64 = args[2].parse().unwrap();
+    let every: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(5);
+    let (rec, axis) = record(seed, axes);
+    let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();
+    let truth = axis.dwell_trace.clone().unwrap().0;
+    let fc = force_clock(&p, &axis, 1, 5e-5, true);
+    for i in ((from / p.dt) as usize..(to / p.dt) as usize).step_by(every) {
+        let f = p.force_motion_band[i] - axis.mass_kg * p.a[i];
+        println!(
+            "{:.3} age {:.3} fc {:.3} x {:.1} um v {:.1e} vstep {:.1e} F {:.1} N raw {:.1} rest {}",
+            p.t[i],
+            truth[i],
+            fc[i],
+            p.x[i] * 1e6,
+            p.v[i],
+            p.v_step[i],
+            f,
+            rec.force[i],
+            p.inside_rest[i] as u8
+        );
     }
 }

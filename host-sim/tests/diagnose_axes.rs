@@ -11,7 +11,7 @@ mod generators;
 
 use generators::axis::{
     random_record, random_record_of, random_record_with, record_on_axes, truth_error_pct, Actuator,
-    Axes, Axis, ContactKind, Family, Sensors,
+    Axes, Axis, ContactKind, DwellLaw, Family, Sensors,
 };
 use host_sim::diagnose::inverse::{Prepared, Protocol};
 use host_sim::diagnose::{self, Diagnosis, Options};
@@ -568,6 +568,40 @@ fn the_dwell_renewal_distance_is_searched_between_its_grid_points() {
     );
 }
 
+/// The aging law (`DwellLaw::Aging`) renews a dwell contact's age only over its renewal
+/// distance of slip: from one sample to the next the age falls by no more than the travel
+/// allows, with two counts and a slip of twice the travel as slack. The age that any slip
+/// renews (`DwellLaw::RestartAtStick`) falls where no count moves: on this record at
+/// 9.30 s an age of 1.3 s renewed by 1 um of travel (session 97).
+#[test]
+fn the_aging_law_renews_a_dwell_age_only_over_its_renewal_distance() {
+    let renewed_beyond_travel = |law| {
+        let (text, axis) = random_record_of(
+            Some("dwell_stiction"),
+            35270,
+            Sensors::default(),
+            ContactKind::LuGre,
+            Family::A,
+            Axes::Issue,
+            law,
+        );
+        let rec = Record::parse(&text, Path::new("dwell.csv")).unwrap();
+        let generators::axis::Shape::Dwell { renewal_m, .. } = axis.shape else {
+            panic!("a dwell record: {:?}", axis.shape)
+        };
+        let age = axis.dwell_trace.expect("the record's clock").0;
+        (1..age.len())
+            .filter(|&i| {
+                let travel = (rec.x[i] - rec.x[i - 1]).abs() + 2e-6;
+                age[i] < age[i - 1] * (-2.0 * travel / renewal_m).exp() - 1e-12
+            })
+            .count()
+    };
+    assert_eq!(renewed_beyond_travel(DwellLaw::Aging), 0);
+    let restarts = renewed_beyond_travel(DwellLaw::RestartAtStick);
+    assert!(restarts > 10, "{restarts}");
+}
+
 /// Main's dwell rule gated by the contact check (session 86): where the dwell term is the
 /// first significant candidate by its 10 % cut, the model leaves more than the measurement
 /// accounts for, and a Maxwell-slip contact in the bristle's place describes what the model
@@ -630,6 +664,7 @@ fn diagnose_issue_record(
         contact,
         Family::A,
         Axes::Issue,
+        DwellLaw::RestartAtStick,
     );
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
     let opts = Options {
@@ -1492,7 +1527,9 @@ fn family_b_draws_other_laws_for_the_other_effects() {
 
 /// [`family_b_draws_other_laws_on_the_same_axes`] for the effects `EFFECTS[k]` (seed 3000 + k).
 fn family_b_draws_other_laws(which: &[usize]) {
-    use generators::axis::{random_record_of, record, Axes, ContactKind, Family, Shape, EFFECTS};
+    use generators::axis::{
+        random_record_of, record, Axes, ContactKind, DwellLaw, Family, Shape, EFFECTS,
+    };
     use host_sim::diagnose::inverse::Prepared;
     let mut paired = 0;
     for &k in which {
@@ -1505,6 +1542,7 @@ fn family_b_draws_other_laws(which: &[usize]) {
                 ContactKind::LuGre,
                 family,
                 Axes::Wide,
+                DwellLaw::RestartAtStick,
             )
         };
         let ((_, axis_a), (text_b, axis_b)) = (of(Family::A), of(Family::B));
@@ -1618,6 +1656,7 @@ fn a_skew_that_bent_the_baseline_is_found_by_searching_each_reading() {
         ContactKind::LuGre,
         Family::A,
         Axes::Issue,
+        DwellLaw::RestartAtStick,
     );
     assert_eq!(axis.actuator, Actuator::Force);
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
