@@ -572,7 +572,7 @@ fn the_dwell_renewal_distance_is_searched_between_its_grid_points() {
 /// distance of slip: from one sample to the next the age falls by no more than the travel
 /// allows, with two counts and a slip of twice the travel as slack. The age that any slip
 /// renews (`DwellLaw::RestartAtStick`) falls where no count moves: on this record at
-/// 9.30 s an age of 1.3 s renewed by 1 um of travel (session 97).
+/// 9.30 s an age of 1.3 s renewed in a 4 um creep, the reading still at rest (session 97).
 #[test]
 fn the_aging_law_renews_a_dwell_age_only_over_its_renewal_distance() {
     let renewed_beyond_travel = |law| {

@@ -24,7 +24,9 @@
 //! with separate Coulomb, static and viscous ratios; a load dependence that is a power of the
 //! pressure sum; position dependence as a linear gradient, a periodic ripple or a local wear
 //! bump; temperature through an Andrade viscosity law and a linear Coulomb drift; a rational or
-//! stretched-exponential Stribeck curve; a power-law viscous term; a Hill-type dwell stiction.
+//! stretched-exponential Stribeck curve; a power-law viscous term; a Hill-type dwell stiction
+//! whose age any slip renews or, on request ([`DwellLaw::Aging`], `--dwell-law aging`), that
+//! follows the aging law of rate-and-state friction.
 //! Base parameters are drawn over wide ranges (soft and stiff contacts, light and heavy masses,
 //! damped and undamped bristles); the excitation is a random schedule of moves (1..120 mm/s)
 //! and sinusoids with reversals, each at most [`MAX_BURST_S`] long and followed by a dwell
@@ -175,7 +177,8 @@ pub enum Shape {
     },
     /// `Fs += dF t^n / (t^n + tau^n)`, `t` = time stuck before the motion, forgotten over
     /// the sliding distance `renewal_m` once the contact slides (the junctions aged at rest are
-    /// renewed: `t` decays as `e^(-s / renewal_m)` along the slid distance `s`).
+    /// renewed: `t` decays as `e^(-s / renewal_m)` along the slid distance `s`). How a new
+    /// stick and slow slip treat `t` is the axis's [`DwellLaw`].
     Dwell {
         increase_n: f64,
         tau_s: f64,
@@ -490,7 +493,7 @@ pub enum DwellLaw {
     /// renewal distances of 20 um..2 mm. On the issue's axes, whose contacts creep under a
     /// closed loop, the age at a breakaway then hangs on slips no measurement resolves
     /// (session 97: `dwell_clock_probe trace 35270 8.9 9.4 --axes issue`, an age of 1.32 s
-    /// renewed by 1 um of travel, +118 N of dwell force gone before the body moves a count).
+    /// and +118 N renewed in a 4 um creep under a rising force, the reading still at rest).
     #[default]
     RestartAtStick,
     /// Dieterich and Ruina's aging law, written from its textbook form: the age `theta` grows
