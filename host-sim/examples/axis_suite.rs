@@ -125,6 +125,8 @@ struct Row {
     hidden: String,
     seed: u64,
     actuator: String,
+    /// how the generator aged a dwell contact (`--dwell-law`; the same for every record)
+    dwell_law: String,
     error: Option<String>,
     first: String,
     first_significant: Option<String>,
@@ -778,6 +780,7 @@ fn run(
         hidden: hidden.clone(),
         seed,
         actuator: format!("{:?}", axis.actuator).to_lowercase(),
+        dwell_law: format!("{:?}", axis.dwell_law),
         error: None,
         first: String::new(),
         first_significant: None,

@@ -453,11 +453,24 @@ fn force_clocks(args: &[String], axes: Axes) {
                 }
                 s += " |";
             }
+            // the aging law on the body's filtered speed, no threshold
+            let renewal = renewal_of(&axis);
+            let mut age = 0.0f64;
+            let aging: Vec<f64> = p
+                .v
+                .iter()
+                .map(|v| {
+                    age = (age + p.dt) / (1.0 + p.dt * v.abs() / renewal);
+                    age
+                })
+                .collect();
+            s += &format!(" {:.2}", with(Some(aging)));
             s + "\n"
         })
         .collect();
     println!(
-        "columns: [formula |v||F|/Fs | |v - dF/dt/sigma0|] x window 1,10,30 x stick 5e-5,1e-4"
+        "columns: [formula |v||F|/Fs | |v - dF/dt/sigma0|] x window 1,10,30 x stick 5e-5,1e-4 \
+         | the aging law on the body's filtered speed"
     );
     for s in out {
         print!("{s}");
