@@ -456,14 +456,13 @@ fn force_clocks(args: &[String], axes: Axes) {
             // the aging law on the body's filtered speed, no threshold
             let renewal = renewal_of(&axis);
             let mut age = 0.0f64;
-            let aging: Vec<f64> = p
-                .v
-                .iter()
-                .map(|v| {
-                    age = (age + p.dt) / (1.0 + p.dt * v.abs() / renewal);
-                    age
-                })
-                .collect();
+            let aging: Vec<f64> =
+                p.v.iter()
+                    .map(|v| {
+                        age = (age + p.dt) / (1.0 + p.dt * v.abs() / renewal);
+                        age
+                    })
+                    .collect();
             s += &format!(" {:.2}", with(Some(aging)));
             s + "\n"
         })
