@@ -16,8 +16,10 @@
 //!   motion where its age restarts while the record's runs on (session 91);
 //! - `force [FIRST_SEED] [N]`: the generator's own shape on twelve slip clocks read off the
 //!   measured motion and force (LuGre's `|v| |F| / F_s`, or the body's speed less the
-//!   bristle's `dF/dt / sigma0`), each renewing as the generator's (session 97: none comes
-//!   near the floor on the axes);
+//!   bristle's `dF/dt / sigma0`), each renewing as the generator's, and last on an aging
+//!   clock read off the body's filtered speed (session 97, issue's axes: on today's law the
+//!   best of the twelve reaches 1.2x the floor on 4 of 20 records; on the aging law,
+//!   `--dwell-law aging`, the aging clock on 19 of 20);
 //! - `trace SEED FROM_S TO_S [EVERY]`: the record's age beside the measured motion and
 //!   friction, every EVERY-th sample (default 5).
 //!
