@@ -16,8 +16,8 @@
 //!   motion where its age restarts while the record's runs on (session 91);
 //! - `force [FIRST_SEED] [N]`: the generator's own shape on twelve slip clocks read off the
 //!   measured motion and force (LuGre's `|v| |F| / F_s`, or the body's speed less the
-//!   bristle's `dF/dt / sigma0`), each renewing as the generator's, and last on an aging
-//!   clock read off the body's filtered speed (session 97, issue's axes: on today's law the
+//!   bristle's `dF/dt / sigma0`), each through the generator's own clock (the record's law),
+//!   and last on the generator's aging law read off the body's filtered speed (session 97, issue's axes: on today's law the
 //!   best of the twelve reaches 1.2x the floor on 4 of 20 records; on the aging law,
 //!   `--dwell-law aging`, the aging clock on 19 of 20);
 //! - `trace SEED FROM_S TO_S [EVERY]`: the record's age beside the measured motion and
@@ -70,16 +70,22 @@ fn renewal_of(axis: &Axis) -> f64 {
     }
 }
 
-fn record(seed: u64, axes: Axes) -> (Record, Axis) {
-    let args: Vec<String> = std::env::args().collect();
+/// Which records a study draws: the axes (`--axes`) and the dwell law (`--dwell-law`).
+#[derive(Clone, Copy)]
+struct Draw {
+    axes: Axes,
+    law: DwellLaw,
+}
+
+fn record(seed: u64, draw: Draw) -> (Record, Axis) {
     let (text, axis) = generators::axis::random_record_of(
         Some("dwell_stiction"),
         seed,
         generators::axis::Sensors::default(),
         generators::axis::ContactKind::LuGre,
         generators::axis::Family::A,
-        axes,
-        DwellLaw::from_args(&args),
+        draw.axes,
+        draw.law,
     );
     (Record::parse(&text, Path::new("x.csv")).unwrap(), axis)
 }
@@ -122,8 +128,8 @@ fn generator_dwell_force(axis: &Axis) -> impl Fn(f64) -> f64 {
 
 /// `truth` and `fit`: per record, a header (floor, baseline, our dwell candidate) and the
 /// mode's lines.
-fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
-    let (rec, axis) = record(seed, axes);
+fn per_record(seed: u64, fit_mode: bool, draw: Draw) -> String {
+    let (rec, axis) = record(seed, draw);
     let d = first_stage(&rec);
     let p = &d.prepared;
     let base = &d.stages[0].fit;
@@ -206,12 +212,12 @@ fn per_record(seed: u64, fit_mode: bool, axes: Axes) -> String {
 }
 
 /// `gaps`: where one body-speed clock parts from the record's.
-fn gaps(args: &[String], axes: Axes) {
+fn gaps(args: &[String], draw: Draw) {
     let seed: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(1700);
     let stick: f64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(5e-5);
     let window: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1);
     let restart = args.iter().any(|a| a == "--restart");
-    let (rec, axis) = record(seed, axes);
+    let (rec, axis) = record(seed, draw);
     let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();
     let w = generator_dwell_force(&axis);
     let truth = axis.dwell_trace.clone().expect("random_record keeps it").0;
@@ -251,9 +257,9 @@ fn gaps(args: &[String], axes: Axes) {
 /// `ages SEED [--resets]`: the diagnosis's own dwell candidate (its rule, time constant and renewal
 /// distance as searched) run along the record, its age at each departure from a rest against
 /// the record's own clock there, and the dwell force each age gives.
-fn ages(args: &[String], axes: Axes) {
+fn ages(args: &[String], draw: Draw) {
     let seed: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(1700);
-    let (rec, axis) = record(seed, axes);
+    let (rec, axis) = record(seed, draw);
     let d = first_stage(&rec);
     let p = &d.prepared;
     let cand = dwell_candidate(&d).expect("a dwell candidate");
@@ -335,7 +341,10 @@ fn ages(args: &[String], axes: Axes) {
 
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let axes = Axes::from_args(&args);
+    let draw = Draw {
+        axes: Axes::from_args(&args),
+        law: DwellLaw::from_args(&args),
+    };
     for flag in ["--axes", "--dwell-law"] {
         if let Some(i) = args.iter().position(|a| a == flag) {
             args.drain(i..(i + 2).min(args.len()));
@@ -343,10 +352,10 @@ fn main() {
     }
     let mode = args.first().map(String::as_str).unwrap_or("truth");
     match mode {
-        "gaps" => return gaps(&args[1..], axes),
-        "ages" => return ages(&args[1..], axes),
-        "force" => return force_clocks(&args[1..], axes),
-        "trace" => return trace(&args[1..], axes),
+        "gaps" => return gaps(&args[1..], draw),
+        "ages" => return ages(&args[1..], draw),
+        "force" => return force_clocks(&args[1..], draw),
+        "trace" => return trace(&args[1..], draw),
         "truth" | "fit" => {}
         other => panic!("unknown mode {other}: truth, fit, gaps, ages, force or trace"),
     }
@@ -355,7 +364,7 @@ fn main() {
     let out: Vec<String> = (s0..s0 + n)
         .collect::<Vec<_>>()
         .par_iter()
-        .map(|&seed| per_record(seed, mode == "fit", axes))
+        .map(|&seed| per_record(seed, mode == "fit", draw))
         .collect();
     for s in out {
         print!("{s}");
@@ -365,9 +374,9 @@ fn main() {
 /// A contact-slip clock read off the measured motion and force (study, session 97): the
 /// body's speed over a centred window of `window` samples, and the contact's slip either by
 /// LuGre's `|v| |F| / F_s` (`formula`) or as the body's speed less the bristle's,
-/// `|v - dF/dt / sigma0|`, the force's derivative over the same window. Restarts at every
-/// stick under `stick` [m/s], and a slide forgets the age over the renewal distance, as the
-/// generator's clock.
+/// `|v - dF/dt / sigma0|`, the force's derivative over the same window, run through the
+/// generator's own clock with a stick under `stick` [m/s] ([`Axis::clock_at`]: the record's
+/// law).
 fn force_clock(p: &Prepared, axis: &Axis, window: usize, stick: f64, formula: bool) -> Vec<f64> {
     let f: Vec<f64> = p
         .force_motion_band
@@ -376,7 +385,6 @@ fn force_clock(p: &Prepared, axis: &Axis, window: usize, stick: f64, formula: bo
         .map(|(f, a)| f - axis.mass_kg * a)
         .collect();
     let n = p.len();
-    let renewal = renewal_of(axis);
     let (mut stuck_s, mut age) = (0.0f64, 0.0f64);
     (0..n)
         .map(|i| {
@@ -402,29 +410,21 @@ fn force_clock(p: &Prepared, axis: &Axis, window: usize, stick: f64, formula: bo
                 };
                 (v - zdot).abs()
             };
-            // as the generator's clock: the age restarts at each stick, and a slide
-            // forgets it over the renewal distance
-            if slip < stick {
-                stuck_s += p.dt;
-                age = stuck_s;
-            } else {
-                stuck_s = 0.0;
-                age *= (-slip * p.dt / renewal).exp();
-            }
+            axis.clock_at(slip, stick, p.dt, &mut stuck_s, &mut age);
             age
         })
         .collect()
 }
 
 /// `force [FIRST_SEED] [N]`: the generator's truth on force-read slip clocks.
-fn force_clocks(args: &[String], axes: Axes) {
+fn force_clocks(args: &[String], draw: Draw) {
     let s0: u64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(1700);
     let n: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(10);
     let out: Vec<String> = (s0..s0 + n)
         .collect::<Vec<_>>()
         .par_iter()
         .map(|&seed| {
-            let (rec, axis) = record(seed, axes);
+            let (rec, axis) = record(seed, draw);
             let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();
             let with = |trace: Option<Vec<f64>>| {
                 let a = Axis {
@@ -455,13 +455,16 @@ fn force_clocks(args: &[String], axes: Axes) {
                 }
                 s += " |";
             }
-            // the aging law on the body's filtered speed, no threshold
-            let renewal = renewal_of(&axis);
-            let mut age = 0.0f64;
+            // the generator's aging law on the body's filtered speed, whatever the record's law
+            let aging_axis = Axis {
+                dwell_law: DwellLaw::Aging,
+                ..axis.clone()
+            };
+            let (mut stuck_s, mut age) = (0.0f64, 0.0f64);
             let aging: Vec<f64> =
                 p.v.iter()
                     .map(|v| {
-                        age = (age + p.dt) / (1.0 + p.dt * v.abs() / renewal);
+                        aging_axis.clock_at(v.abs(), 0.0, p.dt, &mut stuck_s, &mut age);
                         age
                     })
                     .collect();
@@ -479,12 +482,12 @@ fn force_clocks(args: &[String], axes: Axes) {
 }
 
 /// `trace SEED FROM_S TO_S [EVERY]`: the record's age and the measured motion and friction.
-fn trace(args: &[String], axes: Axes) {
+fn trace(args: &[String], draw: Draw) {
     let seed: u64 = args[0].parse().unwrap();
     let from: f64 = args[1].parse().unwrap();
     let to: f64 = args[2].parse().unwrap();
     let every: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(5);
-    let (rec, axis) = record(seed, axes);
+    let (rec, axis) = record(seed, draw);
     let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();
     let truth = axis.dwell_trace.clone().unwrap().0;
     let fc = force_clock(&p, &axis, 1, 5e-5, true);

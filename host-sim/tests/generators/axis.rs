@@ -1118,13 +1118,21 @@ impl Axis {
     /// Under [`DwellLaw::Aging`] the age follows the aging law instead (implicit Euler, stable
     /// for any slip).
     fn clock(&self, slip: f64, h: f64, stuck: &mut f64, dwell: &mut f64) {
+        self.clock_at(slip, STICK_SPEED, h, stuck, dwell);
+    }
+
+    /// [`Self::clock`] with a stick under `stick_speed` [m/s] in place of [`STICK_SPEED`]
+    /// (the aging law has no threshold): the dwell studies run the generator's own law on
+    /// clocks read off a record.
+    #[allow(dead_code)]
+    pub fn clock_at(&self, slip: f64, stick_speed: f64, h: f64, stuck: &mut f64, dwell: &mut f64) {
         if self.dwell_law == DwellLaw::Aging {
             if let Shape::Dwell { renewal_m, .. } | Shape::DwellLog { renewal_m, .. } = self.shape {
                 *dwell = (*dwell + h) / (1.0 + h * slip / renewal_m);
                 return;
             }
         }
-        if slip < STICK_SPEED {
+        if slip < stick_speed {
             *stuck += h;
             *dwell = *stuck;
         } else {
