@@ -378,12 +378,7 @@ fn main() {
 /// generator's own clock with a stick under `stick` [m/s] ([`Axis::clock_at`]: the record's
 /// law).
 fn force_clock(p: &Prepared, axis: &Axis, window: usize, stick: f64, formula: bool) -> Vec<f64> {
-    let f: Vec<f64> = p
-        .force_motion_band
-        .iter()
-        .zip(&p.a)
-        .map(|(f, a)| f - axis.mass_kg * a)
-        .collect();
+    let f = generators::axis::measured_friction(axis, p);
     let n = p.len();
     let (mut stuck_s, mut age) = (0.0f64, 0.0f64);
     (0..n)
@@ -491,8 +486,9 @@ fn trace(args: &[String], draw: Draw) {
     let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();
     let truth = axis.dwell_trace.clone().unwrap().0;
     let fc = force_clock(&p, &axis, 1, 5e-5, true);
+    let friction = generators::axis::measured_friction(&axis, &p);
     for i in ((from / p.dt) as usize..(to / p.dt) as usize).step_by(every) {
-        let f = p.force_motion_band[i] - axis.mass_kg * p.a[i];
+        let f = friction[i];
         println!(
             "{:.3} age {:.3} fc {:.3} x {:.1} um v {:.1e} vstep {:.1e} F {:.1} N raw {:.1} rest {}",
             p.t[i],

@@ -1196,16 +1196,21 @@ impl Axis {
     }
 }
 
+/// The friction the record measures with this axis's mass: the force in the motion's band
+/// less `M a` (at rest, the holding force) \[N\].
+pub fn measured_friction(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> Vec<f64> {
+    p.force_motion_band
+        .iter()
+        .zip(&p.a)
+        .map(|(f, a)| f - axis.mass_kg * a)
+        .collect()
+}
+
 /// The force of this axis's true model driven by the measured motion (`M a + friction` along
 /// the prepared record, unfiltered) \[N\]. The physics stays the generator's own; only the
 /// measured motion is the pipeline's.
 pub fn truth_force(axis: &Axis, p: &host_sim::diagnose::inverse::Prepared) -> Vec<f64> {
-    let held: Vec<f64> = p
-        .force_motion_band
-        .iter()
-        .zip(&p.a)
-        .map(|(f, a)| f - axis.mass_kg * a)
-        .collect();
+    let held = measured_friction(axis, p);
     let friction = axis.friction_along(
         &p.t,
         &p.x,
