@@ -758,7 +758,8 @@ impl AxisModel {
         r: std::ops::Range<usize>,
         out: [&mut [f64]; 4],
     ) {
-        let split = if r.len() >= MIN_SPLIT_SAMPLES {
+        // (the other dwell rules are never split: no rest sample is searched for them)
+        let split = if r.len() >= MIN_SPLIT_SAMPLES && self.a_rest_can_fix_the_state() {
             let mid = r.start + r.len() / 2;
             (mid..r.end - 1).find_map(|i| self.state_after_rest(p, &r, i).map(|s| (i, s)))
         } else {
@@ -791,6 +792,15 @@ impl AxisModel {
         );
     }
 
+    /// Whether a rest of the reading can fix the model's state ([`Self::state_after_rest`]):
+    /// a bristle that holds, and no dwell clock or the one a rest sets.
+    fn a_rest_can_fix_the_state(&self) -> bool {
+        self.friction.params.bristle_stiffness() > 0.0
+            && self.friction.effects.dwell_stiction.is_none_or(|d| {
+                d.clock == DwellClock::BodySpeed && d.age_at_stick == DwellAge::Restarts
+            })
+    }
+
     /// The model's state after sample `i` of segment `r`, where what came before cannot move
     /// it (`None` elsewhere): inside a rest of the reading the bristle carries the holding
     /// deflection, whatever came before; the dwell clock, where the model has one, must be
@@ -804,15 +814,11 @@ impl AxisModel {
         r: &std::ops::Range<usize>,
         i: usize,
     ) -> Option<FrictionState<f64>> {
-        let sigma0 = self.friction.params.bristle_stiffness();
-        if !(sigma0 > 0.0 && p.inside_rest[i]) {
+        if !(self.a_rest_can_fix_the_state() && p.inside_rest[i]) {
             return None;
         }
         let mut dwell_time = 0.0;
         if let Some(d) = self.friction.effects.dwell_stiction {
-            if d.clock != DwellClock::BodySpeed || d.age_at_stick != DwellAge::Restarts {
-                return None;
-            }
             // the clock's own test (a NaN speed is not stuck)
             let stuck = |k: usize| p.v_step[k].abs() < d.stick_velocity;
             if !stuck(i) {
