@@ -749,7 +749,7 @@ impl AxisModel {
     /// run as two halves side by side, split at such a sample near its middle (the same
     /// numbers bit for bit). Until session 98 a model with a dwell clock was never split; the
     /// clock on the body's speed whose age restarts at each stick is split now (on asymmetry
-    /// timing record 1150 its close-call rival, searched again, took 0.90 s and takes 0.81 s,
+    /// timing record 1150 its close-call rival, searched again, took 0.91 s and takes 0.81 s,
     /// medians of 3).
     fn simulate_segment(
         &self,
