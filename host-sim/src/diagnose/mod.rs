@@ -434,8 +434,8 @@ pub struct Candidate {
     pub fitted_before_restart: bool,
     /// Fitted from the asymmetric static table as well as from the current model, and the
     /// table's fit won (where an offset or asymmetry candidate fitted from the current model
-    /// errs more than that table, the offset, the asymmetry and the polished leader are fitted
-    /// from it too; [`TABLE_SPANNED`]).
+    /// errs more than that table, or leads a record nothing explains, the offset, the asymmetry
+    /// and the polished leader are fitted from it too; [`TABLE_SPANNED`]).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub from_static_table: bool,
     /// The larger effect of a nested pair ([`NESTED`]), not significant as a candidate, whose
@@ -1120,6 +1120,8 @@ pub struct PhaseTimes {
     /// Refits from a better start a candidate revealed, and the ranking after each
     /// (`rank_after_restart`, its nested check included).
     pub restarts_s: f64,
+    /// The static table start for a record nothing explains (`table_start_where_unexplained`).
+    pub unexplained_table_s: f64,
     /// Close calls searched again as stages (`settle_close_call`).
     pub close_calls_s: f64,
     /// Stage fits of the effects added (`stage_fit`).
@@ -1133,13 +1135,14 @@ pub struct PhaseTimes {
 impl PhaseTimes {
     /// Every phase with its name \[s\], in the order they run (the total and
     /// [`Self::other_s`] apart).
-    pub fn phases(&self) -> [(&'static str, f64); 8] {
+    pub fn phases(&self) -> [(&'static str, f64); 9] {
         [
             ("first baseline", self.first_baseline_s),
             ("baseline", self.baseline_s),
             ("candidates", self.candidates_s),
             ("nested check", self.nested_s),
             ("restarts", self.restarts_s),
+            ("table start, nothing explained", self.unexplained_table_s),
             ("close calls", self.close_calls_s),
             ("stage fits", self.stage_fits_s),
             ("contact", self.contact_s),
