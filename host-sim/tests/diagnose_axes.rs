@@ -426,6 +426,42 @@ fn named_from_the_static_table(effect: &'static str, seed: u64) -> Diagnosis {
     d
 }
 
+/// A record nothing explains, led by a candidate the static table spans, is fitted from the
+/// table too whatever the table's own error (`table_start_where_unexplained`, session 98). On
+/// asymmetry record 34280 (issue's axes; never-run in session 98's issue table, where it named
+/// nothing) the asymmetry is large (static ratio 0.86) and the baseline bent to 19.93 %; the
+/// offset and asymmetry candidates stopped at 16.15 and 16.23 %, cuts of 19 %, below the
+/// asymmetric table's 16.69 %, so the table start that compares with the table did not fire.
+/// From the table the asymmetry is named, and the offset is held by the nested check.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn an_asymmetry_nothing_else_explains_is_fitted_from_the_static_table() {
+    let d = diagnose_on_issue_axes("asymmetry", 34280);
+    let base = &d.stages[0];
+    let c = &base.candidates;
+    assert_eq!(first_significant(c), Some("asymmetry"), "{}", report(&d));
+    let named = c.iter().find(|c| c.kind.name() == "asymmetry").unwrap();
+    assert!(named.from_static_table, "{}", report(&d));
+    // the premise: the table itself is far from explaining the record (the comparison with
+    // it cannot fire where the bent candidates err less), and the baseline is farther
+    let table = d.tables.asymmetric.rel_err_pct;
+    assert!(
+        table > 10.0 && base.fit.rel_err_pct > table,
+        "{}",
+        report(&d)
+    );
+    // from the table the asymmetry explains most of what the baseline left
+    let err = named.rel_err_pct.unwrap();
+    assert!(err < 0.5 * base.fit.rel_err_pct, "{err:.2} %");
+    // the offset, which the asymmetry contains, steps aside and says why
+    let offset = c.iter().find(|c| c.kind.name() == "offset").unwrap();
+    let why = offset.caution.as_deref().unwrap_or_default();
+    assert!(
+        !offset.significant && why.contains("asymmetry, which contains it"),
+        "{why}"
+    );
+}
+
 /// Where the trigger fires, the leader is fitted from the static table as well as the offset
 /// and the asymmetry: on load record 20280 (hydraulic) the baseline bent to 28.56 % (the
 /// asymmetric table 21.58 %), the load led from it at 19.82 %, and an asymmetry fitted from the
