@@ -1142,7 +1142,7 @@ impl PhaseTimes {
             ("candidates", self.candidates_s),
             ("nested check", self.nested_s),
             ("restarts", self.restarts_s),
-            ("table start, nothing explained", self.unexplained_table_s),
+            ("unexplained table start", self.unexplained_table_s),
             ("close calls", self.close_calls_s),
             ("stage fits", self.stage_fits_s),
             ("contact", self.contact_s),

@@ -1290,32 +1290,30 @@ fn fit_from_table(out: &mut [Candidate], leader: Option<usize>, on: &Scope, refe
 /// ([`fit_from_table`]) whatever the table's own error, judged again, and the nested pair
 /// checked again (`prefer_nested`). [`table_start`] fires where a candidate errs more than the
 /// table; a missing asymmetry can bend the baseline so far that the table, which has no
-/// Stribeck curve, errs as much as the bent candidates (never-run asymmetry record 34280,
-/// static ratio 0.86: the baseline at 19.93 % with `Fs` 817 N and `vs` 0.63 mm/s, the offset and
+/// Stribeck curve, errs as much as the bent candidates (asymmetry record 34280, issue's axes,
+/// never-run in session 98's issue table, where it named nothing; static ratio 0.86: the baseline at 19.93 % with `Fs` 817 N and `vs` 0.63 mm/s, the offset and
 /// asymmetry candidates at 16.15 and 16.23 %, cuts of 19 %, the table 16.69 %, and the
 /// asymmetry as a stage 0.98 % against a floor of 0.83 %). Only where nothing else answers, so
 /// the cost (two stage fits and a nested check) falls on records that would name nothing: no
 /// effect-free record of session 98's fifty left more than the measurement accounts for.
-/// Whether it fired.
-fn table_start_where_unexplained(out: &mut Vec<Candidate>, on: &Scope, current: &Fit) -> bool {
+fn table_start_where_unexplained(out: &mut Vec<Candidate>, on: &Scope, current: &Fit) {
     if out.iter().any(|c| c.significant) {
-        return false;
+        return;
     }
     // out is sorted: the first is the leader
     let Some(lead) = out.first() else {
-        return false;
+        return;
     };
     if !TABLE_SPANNED.contains(&lead.kind) || lead.fit.is_none() {
-        return false;
+        return;
     }
     let reference = Current::new(current, on);
     if !reference.beyond_measurement {
-        return false;
+        return;
     }
     fit_from_table(out, Some(0), on, &reference);
     *out = judge_all(std::mem::take(out), on, &reference);
     prefer_nested(out, on, current);
-    true
 }
 
 /// What a candidate [`Candidate::from_static_table`] says of itself in the text output and the
