@@ -78,15 +78,7 @@ struct Draw {
 }
 
 fn record(seed: u64, draw: Draw) -> (Record, Axis) {
-    let (text, axis) = generators::axis::random_record_of(
-        Some("dwell_stiction"),
-        seed,
-        generators::axis::Sensors::default(),
-        generators::axis::ContactKind::LuGre,
-        generators::axis::Family::A,
-        draw.axes,
-        draw.law,
-    );
+    let (text, axis) = generators::axis::dwell_record(seed, draw.axes, draw.law);
     (Record::parse(&text, Path::new("x.csv")).unwrap(), axis)
 }
 
@@ -380,35 +372,36 @@ fn main() {
 fn force_clock(p: &Prepared, axis: &Axis, window: usize, stick: f64, formula: bool) -> Vec<f64> {
     let f = generators::axis::measured_friction(axis, p);
     let n = p.len();
+    // a column's rate over samples a..b [per s]
+    let rate = |u: &[f64], (a, b): (usize, usize)| (u[b] - u[a]) / ((b - a).max(1) as f64 * p.dt);
+    let around = |i: usize, half: usize| (i.saturating_sub(half), (i + half).min(n - 1));
+    let slip = (0..n).map(|i| {
+        // the body's speed: the filtered velocity, or the travel over the window; the force's
+        // rate over the same window (at least the two neighbours)
+        let (v, over) = if window <= 1 {
+            (p.v[i], around(i, 1))
+        } else {
+            let w = around(i, window / 2);
+            (rate(&p.x, w), w)
+        };
+        if formula {
+            v.abs() * (f[i].abs() / axis.static_n).min(1.0)
+        } else {
+            (v - rate(&f, over) / axis.sigma0).abs()
+        }
+    });
+    ages_along(axis, slip, stick, p.dt)
+}
+
+/// The generator's own clock ([`Axis::clock_at`], the record's law, a stick under `stick`
+/// [m/s]) run along a slip series [m/s] sampled every `dt` \[s\]: the age at each sample \[s\].
+fn ages_along(axis: &Axis, slip: impl Iterator<Item = f64>, stick: f64, dt: f64) -> Vec<f64> {
     let (mut stuck_s, mut age) = (0.0f64, 0.0f64);
-    (0..n)
-        .map(|i| {
-            let (a, b) = if window <= 1 {
-                (i, i)
-            } else {
-                (i.saturating_sub(window / 2), (i + window / 2).min(n - 1))
-            };
-            let span = (b - a).max(1) as f64 * p.dt;
-            let v = if window <= 1 {
-                p.v[i]
-            } else {
-                (p.x[b] - p.x[a]) / span
-            };
-            let slip = if formula {
-                v.abs() * (f[i].abs() / axis.static_n).min(1.0)
-            } else {
-                let zdot = if window <= 1 {
-                    let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-                    (f[b] - f[a]) / ((b - a).max(1) as f64 * p.dt) / axis.sigma0
-                } else {
-                    (f[b] - f[a]) / span / axis.sigma0
-                };
-                (v - zdot).abs()
-            };
-            axis.clock_at(slip, stick, p.dt, &mut stuck_s, &mut age);
-            age
-        })
-        .collect()
+    slip.map(|s| {
+        axis.clock_at(s, stick, dt, &mut stuck_s, &mut age);
+        age
+    })
+    .collect()
 }
 
 /// `force [FIRST_SEED] [N]`: the generator's truth on force-read slip clocks.
@@ -455,14 +448,7 @@ fn force_clocks(args: &[String], draw: Draw) {
                 dwell_law: DwellLaw::Aging,
                 ..axis.clone()
             };
-            let (mut stuck_s, mut age) = (0.0f64, 0.0f64);
-            let aging: Vec<f64> =
-                p.v.iter()
-                    .map(|v| {
-                        aging_axis.clock_at(v.abs(), 0.0, p.dt, &mut stuck_s, &mut age);
-                        age
-                    })
-                    .collect();
+            let aging = ages_along(&aging_axis, p.v.iter().map(|v| v.abs()), 0.0, p.dt);
             s += &format!(" {:.2}", with(Some(aging)));
             s + "\n"
         })
@@ -478,9 +464,13 @@ fn force_clocks(args: &[String], draw: Draw) {
 
 /// `trace SEED FROM_S TO_S [EVERY]`: the record's age and the measured motion and friction.
 fn trace(args: &[String], draw: Draw) {
-    let seed: u64 = args[0].parse().unwrap();
-    let from: f64 = args[1].parse().unwrap();
-    let to: f64 = args[2].parse().unwrap();
+    let usage = "trace SEED FROM_S TO_S [EVERY]";
+    let arg = |i: usize| {
+        args.get(i)
+            .and_then(|s| s.parse::<f64>().ok())
+            .expect(usage)
+    };
+    let (seed, from, to) = (arg(0) as u64, arg(1), arg(2));
     let every: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(5);
     let (rec, axis) = record(seed, draw);
     let p = Prepared::new(&rec, "x.csv", Default::default()).unwrap();

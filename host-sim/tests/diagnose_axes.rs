@@ -612,15 +612,7 @@ fn the_dwell_renewal_distance_is_searched_between_its_grid_points() {
 #[test]
 fn the_aging_law_renews_a_dwell_age_only_over_its_renewal_distance() {
     let renewed_beyond_travel = |law| {
-        let (text, axis) = random_record_of(
-            Some("dwell_stiction"),
-            35270,
-            Sensors::default(),
-            ContactKind::LuGre,
-            Family::A,
-            Axes::Issue,
-            law,
-        );
+        let (text, axis) = generators::axis::dwell_record(35270, Axes::Issue, law);
         let rec = Record::parse(&text, Path::new("dwell.csv")).unwrap();
         let generators::axis::Shape::Dwell { renewal_m, .. } = axis.shape else {
             panic!("a dwell record: {:?}", axis.shape)
@@ -1043,7 +1035,7 @@ fn a_dwell_clock_on_the_contacts_slip_is_chosen_where_the_record_shows_it() {
 /// age rule `rule` on the clock `clock`, and errs at most `floor_factor` times the record's
 /// floor.
 fn dwell_rule_is_chosen(seed: u64, rule: DwellAge, clock: DwellClock, floor_factor: f64) {
-    let (text, axis) = generators::axis::dwell_record(seed, generators::axis::Axes::Issue);
+    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::RestartAtStick);
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
     let opts = Options {
         skip_final_ranking: true,

@@ -1311,7 +1311,8 @@ fn table_start_where_unexplained(out: &mut Vec<Candidate>, on: &Scope, current: 
     if !reference.beyond_measurement {
         return;
     }
-    fit_from_table(out, Some(0), on, &reference);
+    // (the leader is one of the candidates the table spans: no leader of its own)
+    fit_from_table(out, None, on, &reference);
     *out = judge_all(std::mem::take(out), on, &reference);
     prefer_nested(out, on, current);
 }

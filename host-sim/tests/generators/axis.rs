@@ -1623,9 +1623,17 @@ pub fn record_on_axes(effect: Option<&'static str>, seed: u64, axes: Axes) -> (S
 }
 
 /// A family-A dwell-stiction record through the default sensors on a LuGre contact, on the axes
-/// `axes` draws (the dwell studies' and tests' record).
-pub fn dwell_record(seed: u64, axes: Axes) -> (String, Axis) {
-    record_on_axes(Some("dwell_stiction"), seed, axes)
+/// `axes` draws, its contact aged by `law` (the dwell studies' and tests' record).
+pub fn dwell_record(seed: u64, axes: Axes, law: DwellLaw) -> (String, Axis) {
+    random_record_of(
+        Some("dwell_stiction"),
+        seed,
+        Sensors::default(),
+        ContactKind::LuGre,
+        Family::A,
+        axes,
+        law,
+    )
 }
 
 /// [`random_record_on`] with the hidden effect's shape drawn from `family` ([`Family::B`]:
