@@ -144,6 +144,19 @@ mod tables {
     #[serde(deny_unknown_fields)]
     pub struct ShapeT {
         pub exponent: f64,
+        /// the share of the hump on the slow scale (absent: 0, one scale, as files written
+        /// before the tail existed)
+        #[serde(default, skip_serializing_if = "is_zero")]
+        pub tail_share: f64,
+        /// the slow scale over the Stribeck velocity (absent: 1; unused without a share)
+        #[serde(default = "one", skip_serializing_if = "is_one")]
+        pub tail_scale: f64,
+    }
+    fn one() -> f64 {
+        1.0
+    }
+    fn is_one(x: &f64) -> bool {
+        *x == 1.0
     }
     #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
     #[serde(deny_unknown_fields)]
@@ -264,6 +277,8 @@ impl ParamFile {
                 }),
                 stribeck_shape: e.stribeck_shape.map(|s| ShapeT {
                     exponent: s.exponent,
+                    tail_share: s.tail_share,
+                    tail_scale: if s.tail_share == 0.0 { 1.0 } else { s.tail_scale },
                 }),
                 viscous_power: e.viscous_power.map(|v| PowerT {
                     exponent: v.exponent,
@@ -436,10 +451,19 @@ impl ParamFile {
             });
         }
         if let Some(s) = e.stribeck_shape {
-            finite(K::StribeckShape, &[s.exponent])?;
+            finite(K::StribeckShape, &[s.exponent, s.tail_share, s.tail_scale])?;
             positive(K::StribeckShape, "exponent", s.exponent)?;
+            positive(K::StribeckShape, "tail_scale", s.tail_scale)?;
+            if !(0.0..=1.0).contains(&s.tail_share) {
+                return Err(InvalidParams::ShareOutOfRange {
+                    effect: K::StribeckShape,
+                    field: "tail_share",
+                });
+            }
             effects.stribeck_shape = Some(fx::StribeckShape {
                 exponent: s.exponent,
+                tail_share: s.tail_share,
+                tail_scale: s.tail_scale,
             });
         }
         if let Some(v) = e.viscous_power {
@@ -615,6 +639,14 @@ pub enum InvalidParams {
     /// An effect's field must be zero or more.
     #[error("[effects.{effect}] {field} must be zero or greater")]
     Negative {
+        /// The effect's table.
+        effect: EffectKind,
+        /// The key.
+        field: &'static str,
+    },
+    /// A share outside 0..=1.
+    #[error("[effects.{effect}] {field} must be within 0..=1")]
+    ShareOutOfRange {
         /// The effect's table.
         effect: EffectKind,
         /// The key.

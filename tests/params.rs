@@ -257,3 +257,54 @@ fn the_hersey_exponent_round_trips_and_a_negative_one_is_refused() {
     println!("largest f32 - f64 steady-state difference, warm oil: {worst:.2e} (relative)");
     assert!(worst < 1e-5, "f32 {worst} from f64");
 }
+
+/// A Stribeck tail travels through the parameter file and the f32 cast: written only where
+/// its share is not 0, read back as written, one scale where a file written before it lacks
+/// it, refused with the key named where the share leaves 0..=1 or the scale is not above 0;
+/// the f32 model's steady-state force stays within single precision of the f64 one.
+#[test]
+fn a_stribeck_tail_round_trips_and_a_bad_share_is_refused() {
+    use lugre_servo::friction::FrictionModel;
+    use lugre_servo::params_file::ParamFile;
+    let text = |tail: &str| {
+        format!("{LUGRE_AND_AXIS}[effects.stribeck_shape]\nexponent = 2.2\n{tail}")
+    };
+    let path = std::path::Path::new("tail.toml");
+    let (_, old) = ParamFile::parse(&text(""), path).unwrap();
+    let s = old.effects.stribeck_shape.unwrap();
+    assert_eq!((s.exponent, s.tail_share), (2.2, 0.0));
+    let written = toml::to_string_pretty(&ParamFile::new(&old, 200.0)).unwrap();
+    assert!(!written.contains("tail_"), "{written}");
+    let (_, model) =
+        ParamFile::parse(&text("tail_share = 0.45\ntail_scale = 4.0\n"), path).unwrap();
+    let s = model.effects.stribeck_shape.unwrap();
+    assert_eq!((s.tail_share, s.tail_scale), (0.45, 4.0));
+    let written = toml::to_string_pretty(&ParamFile::new(&model, 200.0)).unwrap();
+    assert!(written.contains("tail_share"), "{written}");
+    let (_, back) = ParamFile::parse(&written, path).unwrap();
+    assert_eq!(back, model);
+    // the tail moves the curve
+    let c = model.effects.reference_conditions();
+    assert!((old.steady_state_force(0.02, &c) - model.steady_state_force(0.02, &c)).abs() > 1.0);
+    for (bad, key) in [
+        ("tail_share = 1.5\ntail_scale = 4.0\n", "tail_share"),
+        ("tail_share = -0.1\ntail_scale = 4.0\n", "tail_share"),
+        ("tail_share = 0.3\ntail_scale = 0.0\n", "tail_scale"),
+    ] {
+        let msg = ParamFile::parse(&text(bad), path).unwrap_err().to_string();
+        assert!(msg.contains("stribeck_shape") && msg.contains(key), "{msg}");
+    }
+    let m32: FrictionModel<f32> = model.cast().unwrap();
+    let c32 = m32.effects.reference_conditions();
+    let mut worst = 0.0f64;
+    for i in 1..=200 {
+        let v = 0.05 * i as f64 / 200.0;
+        for v in [v, -v] {
+            let f64_force = model.steady_state_force(v, &c);
+            let f32_force = f64::from(m32.steady_state_force(v as f32, &c32));
+            worst = worst.max((f32_force - f64_force).abs() / f64_force.abs());
+        }
+    }
+    println!("largest f32 - f64 steady-state difference, Stribeck tail: {worst:.2e} (relative)");
+    assert!(worst < 1e-5, "f32 {worst} from f64");
+}

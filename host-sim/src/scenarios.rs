@@ -45,10 +45,8 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::R
             cfg.thermal.extra_heat_w = 1_200.0;
         }
         K::StribeckShape => {
-            e.stribeck_shape = Some(fx::StribeckShape {
-                // strong: 0.5 (a sharp fall from breakaway), subtle (0.4): 1.4
-                exponent: 2.0 - 1.5 * s,
-            })
+            // strong: 0.5 (a sharp fall from breakaway), subtle (0.4): 1.4
+            e.stribeck_shape = Some(fx::StribeckShape::with_exponent(2.0 - 1.5 * s))
         }
         K::ViscousPower => {
             e.viscous_power = Some(fx::ViscousPower {

@@ -276,11 +276,33 @@ impl<T: Float> TemperatureDependence<T> {
     }
 }
 
-/// Stribeck exponent other than 2.
+/// A Stribeck curve other than the standard `exp(-(|v|/vs)^2)`: another exponent, and a second,
+/// slower lubrication scale the data can add (a boundary hump near rest and a mixed-film decay
+/// that lasts to higher speeds):
+///
+/// `g(v) = Fc + (Fs - Fc) [(1 - w) exp(-(|v|/vs)^delta) + w exp(-|v| / (k vs))]`
+///
+/// with `w` = [`Self::tail_share`] and `k` = [`Self::tail_scale`]. `w = 0` is the one-scale
+/// curve, evaluated as it was before the tail existed (bit for bit).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StribeckShape<T> {
     /// `delta` [-], > 0.
     pub exponent: T,
+    /// `w` [-] in 0..=1: the share of the hump that decays on the slow scale.
+    pub tail_share: T,
+    /// `k` [-] > 0: the slow scale's velocity over the Stribeck velocity.
+    pub tail_scale: T,
+}
+
+impl<T: Float> StribeckShape<T> {
+    /// The one-scale curve `exp(-(|v|/vs)^delta)` (no tail).
+    pub fn with_exponent(exponent: T) -> Self {
+        Self {
+            exponent,
+            tail_share: T::zero(),
+            tail_scale: T::one(),
+        }
+    }
 }
 
 /// Viscous force proportional to `|v|^delta`.
@@ -542,6 +564,8 @@ impl<T: Float> Effects<T> {
             }),
             stribeck_shape: self.stribeck_shape.map(|s| StribeckShape {
                 exponent: c(s.exponent),
+                tail_share: c(s.tail_share),
+                tail_scale: c(s.tail_scale),
             }),
             viscous_power: self.viscous_power.map(|v| ViscousPower {
                 exponent: c(v.exponent),
@@ -648,7 +672,7 @@ pub(crate) fn every_effect() -> Effects<f64> {
         reference_temperature: 40.0,
         stribeck_hersey_exponent: 0.3,
     });
-    all.stribeck_shape = Some(StribeckShape { exponent: 1.5 });
+    all.stribeck_shape = Some(StribeckShape::with_exponent(1.5));
     all.viscous_power = Some(ViscousPower {
         exponent: 0.7,
         reference_velocity: 0.01,

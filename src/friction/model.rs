@@ -267,6 +267,39 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// The decay with the Stribeck velocity scaled by `vs_scale` (> 0).
     #[inline(always)]
     fn stribeck_decay_scaled(&self, velocity: T, vs_scale: T) -> T {
+        let r = self.stribeck_ratio(velocity, vs_scale);
+        match self.effects.stribeck_shape {
+            // a slow second scale: `(1 - w) exp(-r^delta) + w exp(-r / k)` (a share past 1 or
+            // a scale not above 0, or either not a number, kept finite: never NaN at rest)
+            Some(s) if s.tail_share > T::zero() => {
+                let w = s.tail_share.min(T::one());
+                (T::one() - w) * math::decay(r.powf(s.exponent))
+                    + w * math::decay(r / s.tail_scale.max(T::epsilon()))
+            }
+            Some(s) => math::decay(r.powf(s.exponent)),
+            None => math::decay(r * r),
+        }
+    }
+
+    /// How a Stribeck tail's share moves the decay at `velocity` \[m/s\] and oil temperature
+    /// `temperature` \[degC\]: `d(decay)/dw = exp(-r / k) - exp(-r^delta)`, `r = |v| / vs`
+    /// (the Stribeck velocity as [`Self::stribeck_decay_at`] scales it). Zero without a
+    /// `stribeck_shape`.
+    pub fn stribeck_tail_sensitivity_at(&self, velocity: T, temperature: T) -> T {
+        let Some(s) = self.effects.stribeck_shape else {
+            return T::zero();
+        };
+        let scale = self
+            .effects
+            .temperature_dependence
+            .map_or(T::one(), |t| t.stribeck_velocity_scale(temperature));
+        let r = self.stribeck_ratio(velocity, scale);
+        math::decay(r / s.tail_scale.max(T::epsilon())) - math::decay(r.powf(s.exponent))
+    }
+
+    /// `|v| / vs`, the Stribeck velocity scaled by `vs_scale` and by the direction's ratio.
+    #[inline(always)]
+    fn stribeck_ratio(&self, velocity: T, vs_scale: T) -> T {
         let mut vs = self.params.stribeck_velocity() * vs_scale;
         if let Some(a) = self.effects.asymmetry {
             let s = if velocity >= T::zero() {
@@ -278,12 +311,7 @@ impl<T: ModelFloat> FrictionModel<T> {
             let least = T::from(0.05).unwrap_or_else(T::epsilon);
             vs = vs * (T::one() + s * a.stribeck_velocity_ratio).max(least);
         }
-        let r = (velocity / vs).abs();
-        let shape = match self.effects.stribeck_shape {
-            Some(s) => r.powf(s.exponent),
-            None => r * r,
-        };
-        math::decay(shape)
+        (velocity / vs).abs()
     }
 
     #[inline]
@@ -653,7 +681,7 @@ mod tests {
         // equals the step that computes it, bit for bit, in force, g and state
         let mut m =
             FrictionModel::plain(LugreParams::new(2e7, 800.0, 150.0, 300.0, 420.0, 0.004).unwrap());
-        m.effects.stribeck_shape = Some(StribeckShape { exponent: 1.3 });
+        m.effects.stribeck_shape = Some(StribeckShape::with_exponent(1.3));
         m.effects.asymmetry = Some(Asymmetry {
             coulomb_ratio: 0.2,
             static_ratio: -0.1,
@@ -901,7 +929,7 @@ mod tests {
                 reference_temperature: 40.0,
                 stribeck_hersey_exponent: 0.6,
             }),
-            stribeck_shape: Some(StribeckShape { exponent: 1.3 }),
+            stribeck_shape: Some(StribeckShape::with_exponent(1.3)),
             viscous_power: Some(ViscousPower {
                 exponent: 0.7,
                 reference_velocity: 0.05,
@@ -1043,7 +1071,7 @@ mod tests {
         let (mut fixed, mut moving, mut plain) = (base(), base(), base());
         fixed.effects.temperature_dependence = Some(law(0.0));
         moving.effects.temperature_dependence = Some(law(0.8));
-        plain.effects.stribeck_shape = Some(StribeckShape { exponent: 1.4 });
+        plain.effects.stribeck_shape = Some(StribeckShape::with_exponent(1.4));
         fixed.effects.stribeck_shape = plain.effects.stribeck_shape;
         moving.effects.stribeck_shape = plain.effects.stribeck_shape;
         let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
@@ -1102,10 +1130,66 @@ mod tests {
     #[test]
     fn stribeck_shape_changes_the_decay_exponent() {
         let mut m = base();
-        m.effects.stribeck_shape = Some(StribeckShape { exponent: 1.0 });
+        m.effects.stribeck_shape = Some(StribeckShape::with_exponent(1.0));
         let l = m.levels(0.01, &REF, 0.0);
         let g = m.stribeck_curve(0.01, &l);
         assert!((g - (506.0 + 126.0 * (-2.0f64).exp())).abs() < 1e-9);
+    }
+
+    /// A Stribeck tail: the curve is `(1 - w) exp(-r^delta) + w exp(-r / k)`; its share's
+    /// sensitivity is the derivative of the decay (a central difference); a share of 0 is the
+    /// one-scale curve bit for bit; bad values give a finite decay, 1 at rest.
+    #[test]
+    fn a_stribeck_tail_adds_a_slow_scale_to_the_curve() {
+        let mut m = base();
+        let one = StribeckShape::with_exponent(1.0);
+        let tailed = StribeckShape {
+            tail_share: 0.4,
+            tail_scale: 3.0,
+            ..one
+        };
+        m.effects.stribeck_shape = Some(tailed);
+        let l = m.levels(0.01, &REF, 0.0);
+        // r = 0.01 / 0.005 = 2
+        let want = 506.0 + 126.0 * (0.6 * (-2.0f64).exp() + 0.4 * (-2.0f64 / 3.0).exp());
+        assert!((m.stribeck_curve(0.01, &l) - want).abs() < 1e-9);
+        assert!((m.stribeck_curve(-0.01, &l) - want).abs() < 1e-9);
+        for v in [0.0, 1e-4, 0.003, -0.01, 0.05] {
+            let sens = m.stribeck_tail_sensitivity_at(v, 40.0);
+            let at = |w: f64| {
+                let mut n = m;
+                n.effects.stribeck_shape = Some(StribeckShape {
+                    tail_share: w,
+                    ..tailed
+                });
+                n.stribeck_decay(v)
+            };
+            let fd = (at(0.4 + 1e-6) - at(0.4 - 1e-6)) / 2e-6;
+            assert!((sens - fd).abs() < 1e-6, "{v}: {sens} against {fd}");
+        }
+        // no share: the one-scale curve, bit for bit
+        let mut plain = base();
+        plain.effects.stribeck_shape = Some(one);
+        m.effects.stribeck_shape = Some(StribeckShape {
+            tail_share: 0.0,
+            ..tailed
+        });
+        for v in [0.0, 0.002, -0.02] {
+            assert_eq!(m.stribeck_decay(v).to_bits(), plain.stribeck_decay(v).to_bits());
+        }
+        // bad values: finite, and 1 at rest
+        for (w, k) in [(f64::NAN, 3.0), (0.5, 0.0), (0.5, f64::NAN), (2.0, -1.0)] {
+            m.effects.stribeck_shape = Some(StribeckShape {
+                tail_share: w,
+                tail_scale: k,
+                ..one
+            });
+            for v in [0.0, 0.01] {
+                let d = m.stribeck_decay(v);
+                assert!(d.is_finite() && (0.0..=1.0).contains(&d), "{w} {k} {v}: {d}");
+            }
+            assert_eq!(m.stribeck_decay(0.0), 1.0, "{w} {k}");
+        }
     }
 
     #[test]

@@ -62,6 +62,8 @@ pub enum Param {
     TempCoulomb,
     /// dwell_stiction dF \[N\].
     DwellIncrease,
+    /// stribeck_shape w [-]: the hump's share on the slow scale.
+    StribeckTailShare,
 }
 
 /// The cosine terms' labels, one per term the core carries (its length is the core's
@@ -106,6 +108,7 @@ impl Param {
             }
             Param::TempCoulomb => "coulomb_per_kelvin",
             Param::DwellIncrease => "max_increase_n",
+            Param::StribeckTailShare => "tail_share",
         }
     }
 }
@@ -331,17 +334,27 @@ fn refit_iterations(
             .with_levels(s2.max(0.0), q.coulomb_force(), q.static_force())
             .unwrap_or(q);
     }
-    // the levels move, vs and the shape do not: the Stribeck decay is evaluated once
+    // the levels move, vs and the shape do not: the Stribeck decay is evaluated once, unless
+    // a Stribeck tail's share (fitted here) moves it
     let decay = model.stribeck_decay(p);
+    let tail_moves = model.friction.effects.stribeck_shape.is_some();
+    let decay_of = |m: &AxisModel| {
+        if tail_moves {
+            Cow::Owned(m.stribeck_decay(p))
+        } else {
+            Cow::Borrowed(decay.as_slice())
+        }
+    };
     // score a model: (weighted RSS, its simulation, its prediction). Only a model the
     // columns are built about needs the whole simulation; a chord step's (its columns kept,
     // `Jacobian::Frozen`) needs the friction alone.
     let score = |m: &AxisModel, linearised_about: bool| {
+        let d = decay_of(m);
         let sim = if linearised_about {
-            m.simulate_with_decay(p, &decay)
+            m.simulate_with_decay(p, &d)
         } else {
             Simulation {
-                friction: m.friction_with_decay(p, &decay),
+                friction: m.friction_with_decay(p, &d),
                 ..Simulation::default()
             }
         };
@@ -370,7 +383,7 @@ fn refit_iterations(
                 &model,
                 &sim,
                 &pred,
-                &decay,
+                &decay_of(&model),
                 p,
                 fixed_mass,
                 held_viscous,
@@ -459,6 +472,7 @@ pub fn value_of(m: &AxisModel, param: Param) -> f64 {
             .temperature_dependence
             .map_or(0.0, |t| t.coulomb_per_kelvin),
         Param::DwellIncrease => e.dwell_stiction.map_or(0.0, |d| d.max_increase),
+        Param::StribeckTailShare => e.stribeck_shape.map_or(0.0, |s| s.tail_share),
     }
 }
 
@@ -536,6 +550,7 @@ impl Bounds {
             Param::AsymCoulomb | Param::AsymStatic | Param::AsymViscous => (-0.95, 0.95),
             Param::Offset => (-self.force, self.force),
             Param::LoadStaticShare => (-LOAD_STATIC_SHARE_BOUND, LOAD_STATIC_SHARE_BOUND),
+            Param::StribeckTailShare => (0.0, 1.0),
             _ => (f64::NEG_INFINITY, f64::INFINITY),
         }
     }
@@ -550,9 +565,12 @@ impl Bounds {
         let finite_width = if (hi - lo).is_finite() { hi - lo } else { 0.0 };
         let tol = 1e-6 * finite_width.max(value.abs()).max(1e-12);
         match param {
-            // Fs = Fc (no hump), zero damping, zero viscous friction are legitimate answers:
-            // only the upper edges of those say the data pushed against physics
-            Param::Static | Param::BristleDamping | Param::Viscous => value >= hi - tol,
+            // Fs = Fc (no hump), zero damping, zero viscous friction, one Stribeck scale are
+            // legitimate answers: only the upper edges of those say the data pushed against
+            // physics
+            Param::Static | Param::BristleDamping | Param::Viscous | Param::StribeckTailShare => {
+                value >= hi - tol
+            }
             _ => value <= lo + tol || value >= hi - tol,
         }
     }
@@ -732,7 +750,16 @@ fn linearise<'p>(
     if e.dwell_stiction.is_some() {
         params.push(Param::DwellIncrease);
     }
+    if e.stribeck_shape.is_some() {
+        params.push(Param::StribeckTailShare);
+    }
     let k = params.len();
+    // how the tail's share moves each sample's Stribeck decay (empty without a shape)
+    let tail = if e.stribeck_shape.is_some() {
+        m.stribeck_tail_sensitivity(p)
+    } else {
+        Vec::new()
+    };
     // The inertia's column is the acceleration, and the viscous one the velocity itself when
     // no effect reshapes it (the factors are exactly 1): both come filtered with the record.
     let plain_viscous =
@@ -841,6 +868,8 @@ fn linearise<'p>(
                     // the shift is added after the direction's ratios (FrictionModel::levels)
                     Param::TempCoulomb => d_t * (level + shift) * s,
                     Param::DwellIncrease => w * ex * s,
+                    // the decay moves by `tail` per unit share, the hump's force with it
+                    Param::StribeckTailShare => tau_c * hump_a * hump_scale * tail[i] * s,
                 };
             }
         }
@@ -1150,6 +1179,11 @@ fn rebuild(m: &AxisModel, est: &[Estimate]) -> AxisModel {
     if let Some(d) = effects.dwell_stiction.as_mut() {
         d.max_increase = get(Param::DwellIncrease).unwrap_or(0.0);
     }
+    if let Some(s) = effects.stribeck_shape.as_mut() {
+        s.tail_share = get(Param::StribeckTailShare)
+            .unwrap_or(s.tail_share)
+            .clamp(0.0, 1.0);
+    }
     AxisModel {
         mass_kg: get(Param::Mass).unwrap_or(m.mass_kg).max(0.0),
         friction: lugre_servo::friction::FrictionModel { params, effects },
@@ -1348,8 +1382,13 @@ pub fn add_effect(
             })
         }
         K::StribeckShape => {
-            e.stribeck_shape = Some(fx::StribeckShape {
-                exponent: nonlinear,
+            // a tail the model already has is kept (a polish moves the exponent alone)
+            e.stribeck_shape = Some(match e.stribeck_shape {
+                Some(s) => fx::StribeckShape {
+                    exponent: nonlinear,
+                    ..s
+                },
+                None => fx::StribeckShape::with_exponent(nonlinear),
             })
         }
         K::ViscousPower => {
@@ -1403,6 +1442,12 @@ pub const DWELL_STICK_SLIP_VELOCITY: f64 = 5e-5;
 /// `diagnose::EffectInfo::shape`).
 pub const DWELL_RENEWAL_GRID_M: [f64; 4] = [1e-5, 1e-4, 1e-3, 1e-2];
 
+/// The slow Stribeck scales the data choose from, over the Stribeck velocity (the shape's
+/// second nonlinear parameter, beside the exponent; its share is fitted with the levels): a
+/// mixed-film decay from a few to tens of times the boundary hump's speed; the search goes on
+/// between them (see `diagnose::EffectInfo::shape`).
+pub const STRIBECK_TAIL_SCALE_GRID: [f64; 4] = [1.5, 3.0, 6.0, 12.0];
+
 /// The model with the second shape parameter of `effect` (see
 /// [`super::EffectInfo::shape`]) set to `value` (unchanged when the model lacks the effect or
 /// the effect has no second shape parameter): the dwell term's renewal distance \[m\].
@@ -1412,10 +1457,19 @@ pub fn with_shape(
     value: f64,
 ) -> AxisModel {
     let mut out = *m;
-    if effect == lugre_servo::friction::EffectKind::DwellStiction {
-        if let Some(d) = out.friction.effects.dwell_stiction.as_mut() {
-            d.renewal_distance = value;
+    let e = &mut out.friction.effects;
+    match effect {
+        lugre_servo::friction::EffectKind::DwellStiction => {
+            if let Some(d) = e.dwell_stiction.as_mut() {
+                d.renewal_distance = value;
+            }
         }
+        lugre_servo::friction::EffectKind::StribeckShape => {
+            if let Some(s) = e.stribeck_shape.as_mut() {
+                s.tail_scale = value;
+            }
+        }
+        _ => {}
     }
     out
 }
@@ -1512,6 +1566,9 @@ pub fn shape_value(m: &AxisModel, effect: lugre_servo::friction::EffectKind) -> 
             .effects
             .dwell_stiction
             .map(|d| d.renewal_distance),
+        lugre_servo::friction::EffectKind::StribeckShape => {
+            m.friction.effects.stribeck_shape.map(|s| s.tail_scale)
+        }
         _ => None,
     }
 }
@@ -1747,7 +1804,8 @@ mod chord_tests {
     #[test]
     fn columns_are_the_derivatives_of_the_prediction() {
         use lugre_servo::friction::effects::{
-            Asymmetry, LoadDependence, Offset, PositionDependence, TemperatureDependence,
+            Asymmetry, LoadDependence, Offset, PositionDependence, StribeckShape,
+            TemperatureDependence,
         };
         // a Stribeck velocity of 40 mm/s keeps the hump, and what the share does to it, in
         // the sliding samples compared
@@ -1777,6 +1835,11 @@ mod chord_tests {
             reference_temperature: 40.0,
             stribeck_hersey_exponent: 0.7,
         });
+        e.stribeck_shape = Some(StribeckShape {
+            exponent: 1.6,
+            tail_share: 0.35,
+            tail_scale: 3.0,
+        });
         let p = record_with(&m, true);
         let decay = m.stribeck_decay(&p);
         let sim = m.simulate_with_decay(&p, &decay);
@@ -1787,6 +1850,7 @@ mod chord_tests {
             Param::LoadCosine(1),
             Param::PositionCosine(2),
             Param::TempCoulomb,
+            Param::StribeckTailShare,
         ] {
             assert!(lin.params.contains(&q));
         }
@@ -1831,7 +1895,7 @@ mod chord_tests {
                 * lin.theta0[j].abs().max(match q {
                     Param::Mass => 1.0,
                     Param::AsymCoulomb | Param::AsymStatic | Param::AsymViscous => 0.1,
-                    Param::LoadStaticShare => 1.0,
+                    Param::LoadStaticShare | Param::StribeckTailShare => 1.0,
                     Param::LoadCoefficient => 1e-6,
                     Param::TempCoulomb => 1e-3,
                     _ => 10.0,

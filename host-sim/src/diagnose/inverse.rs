@@ -695,6 +695,22 @@ impl AxisModel {
             .collect()
     }
 
+    /// How a Stribeck tail's share moves this model's decay at each sample's step velocity
+    /// (`FrictionModel::stribeck_tail_sensitivity_at`, the temperatures as
+    /// [`Self::stribeck_decay`] takes them): zero without a `stribeck_shape`.
+    pub fn stribeck_tail_sensitivity(&self, p: &Prepared) -> Vec<f64> {
+        let reference = self.friction.effects.reference_conditions().temperature;
+        let temperature = |i: usize| p.temperature.as_ref().map_or(reference, |t| t[i]);
+        p.v_step
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                self.friction
+                    .stribeck_tail_sensitivity_at(v, temperature(i))
+            })
+            .collect()
+    }
+
     /// [`Self::simulate`] with the Stribeck decay given ([`Self::stribeck_decay`] of a model
     /// with the same `vs` and shape; the result is the same bit for bit): a fit that moves
     /// only the levels evaluates it once, not once per model.

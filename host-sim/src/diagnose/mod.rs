@@ -151,14 +151,16 @@ pub const EFFECTS: [EffectInfo; 8] = [
     },
     EffectInfo {
         kind: EffectKind::StribeckShape,
-        meaning: "the fall from breakaway to sliding friction is sharper or gentler than the standard Stribeck curve",
-        linear: &[],
+        meaning: "the fall from breakaway to sliding friction is sharper or gentler than the standard Stribeck curve, or part of it lasts to higher speeds (a boundary hump and a slower mixed-film decay)",
+        // the share of the hump on a second, slower scale (a boundary hump and a mixed-film
+        // decay that lasts to higher speeds): 0 is the one-scale curve
+        linear: &[Param::StribeckTailShare],
         nonlinear: Some((
             "exponent",
             &[0.5, 0.7, 0.9, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0],
             Some(2.0),
         )),
-        shape: None,
+        shape: Some(("tail_scale", &fit::STRIBECK_TAIL_SCALE_GRID)),
         orders_first: None,
         stage_searched: None,
     },

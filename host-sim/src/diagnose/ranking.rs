@@ -571,9 +571,10 @@ fn judge_all(out: Vec<Candidate>, on: &Scope, reference: &Current) -> Vec<Candid
 /// A profile over an effect's second shape parameter: (value, residual sum of squares).
 type ShapeProfile = Vec<(f64, f64)>;
 
-/// A point of the first pass over an effect's rules: the rule, the second shape parameter's
-/// value, the nonlinear parameter's value, and there the grid objective and the quick fit.
-type RulePoint = (DwellRule, Option<f64>, f64, (f64, Fit));
+/// A point of the first pass over an effect's rules or second shape parameter: the rule (none
+/// for an effect without rules), the second shape parameter's value, the nonlinear
+/// parameter's value, and there the grid objective and the quick fit.
+type RulePoint = (Option<DwellRule>, Option<f64>, f64, (f64, Fit));
 
 fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
     let (p, brk, n_eff) = (on.fitting.p, on.brk, on.fitting.n_eff);
@@ -608,32 +609,46 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             // only the chosen rule is searched on the whole grid (its points from the first pass
             // reused bit for bit). Searching all three dwell rules whole cost a diagnosis x1.10
             // (session 89, `diagnose_timing 1131 1132`).
+            // An effect without rules but with several shape values (the Stribeck tail's scale)
+            // has the same first pass over its shape values, and only the chosen one is
+            // searched whole: its tail's share is fitted at every point, so searching every
+            // scale whole cost a diagnosis 0.3 s (session 99, `diagnose_timing 1151`).
             let rules = fit::rules(info.kind);
-            let coarse: Vec<RulePoint> = if rules.len() > 1 {
-                let points: Vec<(DwellRule, Option<f64>, f64)> = (rules.iter())
+            let shape_first = rules.is_empty() && shapes.len() > 1;
+            let coarse: Vec<RulePoint> = if rules.len() > 1 || shape_first {
+                let rule_set: Vec<Option<DwellRule>> = if rules.is_empty() {
+                    vec![None]
+                } else {
+                    rules.iter().copied().map(Some).collect()
+                };
+                let points: Vec<(Option<DwellRule>, Option<f64>, f64)> = (rule_set.iter())
                     .flat_map(|&r| shapes.iter().map(move |&s| (r, s)))
                     .flat_map(|(r, s)| grid.iter().step_by(2).map(move |&x| (r, s, x)))
                     .collect();
                 points
                     .into_par_iter()
-                    .map(|(r, s, x)| (r, s, x, refit_at(Some(r), s, x)))
+                    .map(|(r, s, x)| (r, s, x, refit_at(r, s, x)))
                     .collect()
             } else {
                 Vec::new()
             };
+            let best_coarse = coarse.iter().min_by(|a, b| (a.3).0.total_cmp(&(b.3).0));
             // the rule searched whole: the first pass's best, or the effect's only rule (none
             // for an effect without rules)
-            let rule: Option<DwellRule> = coarse
-                .iter()
-                .min_by(|a, b| (a.3).0.total_cmp(&(b.3).0))
-                .map(|(r, ..)| *r)
+            let rule: Option<DwellRule> = best_coarse
+                .and_then(|(r, ..)| *r)
                 .or_else(|| rules.first().copied());
+            // the shape values searched whole: every one, or the first pass's best alone
+            let searched_shapes: Vec<Option<f64>> = match best_coarse {
+                Some((_, s, ..)) if shape_first => vec![*s],
+                _ => shapes.clone(),
+            };
             let search_at = |shape: Option<f64>| {
                 effect_grid_min(info, grid, |x| {
                     let same =
                         |v: Option<f64>, w: Option<f64>| v.map(f64::to_bits) == w.map(f64::to_bits);
                     match coarse.iter().find(|(r, s, cx, _)| {
-                        Some(*r) == rule && same(*s, shape) && cx.to_bits() == x.to_bits()
+                        *r == rule && same(*s, shape) && cx.to_bits() == x.to_bits()
                     }) {
                         Some((.., known)) => known.clone(),
                         None => refit_at(rule, shape, x),
@@ -648,15 +663,30 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             // (the identity set's suite JSON unchanged; `diagnose_timing 1097 1098` paired
             // ratio 0.978, session 68: within the machine's noise).
             let on_grid: Vec<fit::GridResult<Fit>> =
-                shapes.par_iter().map(|&s| search_at(s)).collect();
+                searched_shapes.par_iter().map(|&s| search_at(s)).collect();
             // the profile over the second shape parameter, and between its grid's points the
             // parabola through the best one and its neighbours in ln, searched once more there
             // (the renewal distance on its decade grid left calibration dwell record 1701 at
             // 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE,
             // session 35)
-            let mut shape_profile: ShapeProfile = (shapes.iter().zip(&on_grid))
+            let mut shape_profile: ShapeProfile = (searched_shapes.iter().zip(&on_grid))
                 .filter_map(|(s, (_, f, _))| s.map(|v| (v, f.rss)))
                 .collect();
+            // the shape values not searched whole enter the profile at their first pass's
+            // best (the quick fits' residuals, as the whole searches')
+            if shape_first {
+                for s in shapes.iter().flatten() {
+                    if searched_shapes.contains(&Some(*s)) {
+                        continue;
+                    }
+                    let least = (coarse.iter())
+                        .filter(|(_, cs, ..)| *cs == Some(*s))
+                        .map(|(.., (_, f))| f.rss)
+                        .fold(f64::INFINITY, f64::min);
+                    shape_profile.push((*s, least));
+                }
+                shape_profile.sort_by(|a, b| a.0.total_cmp(&b.0));
+            }
             let vertex = shape_vertex_ln(&shape_profile).map(f64::exp).map(|v| {
                 let searched = search_at(Some(v));
                 shape_profile.push((v, searched.1.rss));
