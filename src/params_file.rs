@@ -278,7 +278,11 @@ impl ParamFile {
                 stribeck_shape: e.stribeck_shape.map(|s| ShapeT {
                     exponent: s.exponent,
                     tail_share: s.tail_share,
-                    tail_scale: if s.tail_share == 0.0 { 1.0 } else { s.tail_scale },
+                    tail_scale: if s.tail_share == 0.0 {
+                        1.0
+                    } else {
+                        s.tail_scale
+                    },
                 }),
                 viscous_power: e.viscous_power.map(|v| PowerT {
                     exponent: v.exponent,

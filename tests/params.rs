@@ -266,9 +266,8 @@ fn the_hersey_exponent_round_trips_and_a_negative_one_is_refused() {
 fn a_stribeck_tail_round_trips_and_a_bad_share_is_refused() {
     use lugre_servo::friction::FrictionModel;
     use lugre_servo::params_file::ParamFile;
-    let text = |tail: &str| {
-        format!("{LUGRE_AND_AXIS}[effects.stribeck_shape]\nexponent = 2.2\n{tail}")
-    };
+    let text =
+        |tail: &str| format!("{LUGRE_AND_AXIS}[effects.stribeck_shape]\nexponent = 2.2\n{tail}");
     let path = std::path::Path::new("tail.toml");
     let (_, old) = ParamFile::parse(&text(""), path).unwrap();
     let s = old.effects.stribeck_shape.unwrap();

@@ -1175,7 +1175,10 @@ mod tests {
             ..tailed
         });
         for v in [0.0, 0.002, -0.02] {
-            assert_eq!(m.stribeck_decay(v).to_bits(), plain.stribeck_decay(v).to_bits());
+            assert_eq!(
+                m.stribeck_decay(v).to_bits(),
+                plain.stribeck_decay(v).to_bits()
+            );
         }
         // bad values: finite, and 1 at rest
         for (w, k) in [(f64::NAN, 3.0), (0.5, 0.0), (0.5, f64::NAN), (2.0, -1.0)] {
@@ -1186,7 +1189,10 @@ mod tests {
             });
             for v in [0.0, 0.01] {
                 let d = m.stribeck_decay(v);
-                assert!(d.is_finite() && (0.0..=1.0).contains(&d), "{w} {k} {v}: {d}");
+                assert!(
+                    d.is_finite() && (0.0..=1.0).contains(&d),
+                    "{w} {k} {v}: {d}"
+                );
             }
             assert_eq!(m.stribeck_decay(0.0), 1.0, "{w} {k}");
         }

@@ -336,8 +336,12 @@ fn refit_iterations(
     }
     // the levels move, vs and the shape do not: the Stribeck decay is evaluated once, unless
     // a Stribeck tail's share (fitted here) moves it
-    let decay = model.stribeck_decay(p);
     let tail_moves = model.friction.effects.stribeck_shape.is_some();
+    let decay = if tail_moves {
+        Vec::new()
+    } else {
+        model.stribeck_decay(p)
+    };
     let decay_of = |m: &AxisModel| {
         if tail_moves {
             Cow::Owned(m.stribeck_decay(p))
@@ -1450,7 +1454,8 @@ pub const STRIBECK_TAIL_SCALE_GRID: [f64; 4] = [1.5, 3.0, 6.0, 12.0];
 
 /// The model with the second shape parameter of `effect` (see
 /// [`super::EffectInfo::shape`]) set to `value` (unchanged when the model lacks the effect or
-/// the effect has no second shape parameter): the dwell term's renewal distance \[m\].
+/// the effect has no second shape parameter): the dwell term's renewal distance \[m\], the
+/// Stribeck tail's scale [-].
 pub fn with_shape(
     m: &AxisModel,
     effect: lugre_servo::friction::EffectKind,

@@ -70,7 +70,9 @@ pub struct EffectInfo {
     /// vertex in ln of the best value and its neighbours (`shape_vertex_ln`). All of that
     /// is done under the effect's rule ([`fit::rules`]: the dwell's age at a new stick and
     /// whose speed tells a stick), chosen first where there are several by a coarser pass of
-    /// every rule (every other value of the grid, at each shape value).
+    /// every rule (every other value of the grid, at each shape value). An effect without
+    /// rules (the Stribeck tail's scale) takes the same coarser pass over its shape values and
+    /// searches only the best of them whole, then the vertex.
     pub shape: Option<(&'static str, &'static [f64])>,
     /// Where the nonlinear parameter is a model order (the cosine terms of
     /// `position_dependence`): how many of its grid's orders are tried first, the rest only
