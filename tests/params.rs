@@ -234,15 +234,7 @@ fn the_hersey_exponent_round_trips_and_a_negative_one_is_refused() {
         pressure_sum: 0.0,
         temperature: 65.0f32,
     };
-    let mut worst = 0.0f64;
-    for i in 1..=200 {
-        let v = 0.03 * i as f64 / 200.0;
-        for v in [v, -v] {
-            let f64_force = model.steady_state_force(v, &warm);
-            let f32_force = f64::from(m32.steady_state_force(v as f32, &warm32));
-            worst = worst.max((f32_force - f64_force).abs() / f64_force.abs());
-        }
-    }
+    let worst = worst_f32_steady_state(&model, &m32, &warm, &warm32, 0.03);
     // the curve did move: at the reference velocity it differs from the fixed curve's
     let mut fixed = model;
     fixed.effects.temperature_dependence =
@@ -295,15 +287,28 @@ fn a_stribeck_tail_round_trips_and_a_bad_share_is_refused() {
     }
     let m32: FrictionModel<f32> = model.cast().unwrap();
     let c32 = m32.effects.reference_conditions();
+    let worst = worst_f32_steady_state(&model, &m32, &c, &c32, 0.05);
+    println!("largest f32 - f64 steady-state difference, Stribeck tail: {worst:.2e} (relative)");
+    assert!(worst < 1e-5, "f32 {worst} from f64");
+}
+
+/// The largest relative difference of the f32 model's steady-state force from the f64 one's,
+/// over 200 speeds up to `v_max` \[m/s\] each way.
+fn worst_f32_steady_state(
+    model: &lugre_servo::friction::FrictionModel<f64>,
+    m32: &lugre_servo::friction::FrictionModel<f32>,
+    c: &lugre_servo::friction::Conditions<f64>,
+    c32: &lugre_servo::friction::Conditions<f32>,
+    v_max: f64,
+) -> f64 {
     let mut worst = 0.0f64;
     for i in 1..=200 {
-        let v = 0.05 * i as f64 / 200.0;
+        let v = v_max * i as f64 / 200.0;
         for v in [v, -v] {
-            let f64_force = model.steady_state_force(v, &c);
-            let f32_force = f64::from(m32.steady_state_force(v as f32, &c32));
+            let f64_force = model.steady_state_force(v, c);
+            let f32_force = f64::from(m32.steady_state_force(v as f32, c32));
             worst = worst.max((f32_force - f64_force).abs() / f64_force.abs());
         }
     }
-    println!("largest f32 - f64 steady-state difference, Stribeck tail: {worst:.2e} (relative)");
-    assert!(worst < 1e-5, "f32 {worst} from f64");
+    worst
 }

@@ -686,28 +686,27 @@ impl AxisModel {
     /// (`FrictionModel::stribeck_decay_at`: the reference temperature where the record has
     /// none).
     pub fn stribeck_decay(&self, p: &Prepared) -> Vec<f64> {
-        let reference = self.friction.effects.reference_conditions().temperature;
-        let temperature = |i: usize| p.temperature.as_ref().map_or(reference, |t| t[i]);
-        p.v_step
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| self.friction.stribeck_decay_at(v, temperature(i)))
-            .collect()
+        self.along_step_velocity(p, |v, temperature| {
+            self.friction.stribeck_decay_at(v, temperature)
+        })
     }
 
     /// How a Stribeck tail's share moves this model's decay at each sample's step velocity
     /// (`FrictionModel::stribeck_tail_sensitivity_at`, the temperatures as
     /// [`Self::stribeck_decay`] takes them): zero without a `stribeck_shape`.
     pub fn stribeck_tail_sensitivity(&self, p: &Prepared) -> Vec<f64> {
+        self.along_step_velocity(p, |v, temperature| {
+            self.friction.stribeck_tail_sensitivity_at(v, temperature)
+        })
+    }
+
+    /// `f(v, T)` at each sample's step velocity \[m/s\] and oil temperature \[degC\] (the
+    /// model's reference temperature where the record has none).
+    fn along_step_velocity(&self, p: &Prepared, f: impl Fn(f64, f64) -> f64) -> Vec<f64> {
         let reference = self.friction.effects.reference_conditions().temperature;
         let temperature = |i: usize| p.temperature.as_ref().map_or(reference, |t| t[i]);
-        p.v_step
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| {
-                self.friction
-                    .stribeck_tail_sensitivity_at(v, temperature(i))
-            })
+        (p.v_step.iter().enumerate())
+            .map(|(i, &v)| f(v, temperature(i)))
             .collect()
     }
 
