@@ -1571,9 +1571,11 @@ pub fn shape_value(m: &AxisModel, effect: lugre_servo::friction::EffectKind) -> 
             .effects
             .dwell_stiction
             .map(|d| d.renewal_distance),
-        lugre_servo::friction::EffectKind::StribeckShape => {
-            m.friction.effects.stribeck_shape.map(|s| s.tail_scale)
-        }
+        // a curve with no share on its tail has no tail scale to report (EMPS printed one
+        // "at the edge of its search range" under a share of 0)
+        lugre_servo::friction::EffectKind::StribeckShape => (m.friction.effects.stribeck_shape)
+            .filter(|s| s.tail_share > 0.0)
+            .map(|s| s.tail_scale),
         _ => None,
     }
 }

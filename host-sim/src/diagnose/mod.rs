@@ -1808,6 +1808,28 @@ mod search_edge_tests {
         }
     }
 
+    /// A Stribeck tail's scale is reported at an end of its grid only where the tail has a
+    /// share: a curve of one scale has no tail scale to be at an edge.
+    #[test]
+    fn a_stribeck_tail_scale_is_at_an_edge_only_with_a_share() {
+        let at = |share: f64, scale: f64| {
+            let e = fx::Effects {
+                stribeck_shape: Some(fx::StribeckShape {
+                    exponent: 2.5,
+                    tail_share: share,
+                    tail_scale: scale,
+                }),
+                ..fx::Effects::none()
+            };
+            effect_search_edges(&model(e))
+        };
+        assert!(at(0.0, 1.5).is_empty());
+        assert!(at(0.4, 3.0).is_empty());
+        let edges = at(0.4, 12.0);
+        assert_eq!(edges.len(), 1);
+        assert_eq!(edges[0].name, "tail_scale");
+    }
+
     /// The asymmetry's Stribeck velocity ratio is reported at the edge where the search
     /// ends at its reach (±0.7), not inside it or at 0 (the ratio as added).
     #[test]
