@@ -257,11 +257,16 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// [`Self::stribeck_decay_under`] at conditions with that temperature.
     #[inline]
     pub fn stribeck_decay_at(&self, velocity: T, temperature: T) -> T {
-        let scale = self
-            .effects
+        self.stribeck_decay_scaled(velocity, self.stribeck_velocity_scale_at(temperature))
+    }
+
+    /// The Stribeck velocity's factor at oil temperature `temperature` \[degC\]
+    /// (`temperature_dependence`'s `eta^-q`; 1 without it).
+    #[inline]
+    fn stribeck_velocity_scale_at(&self, temperature: T) -> T {
+        self.effects
             .temperature_dependence
-            .map_or(T::one(), |t| t.stribeck_velocity_scale(temperature));
-        self.stribeck_decay_scaled(velocity, scale)
+            .map_or(T::one(), |t| t.stribeck_velocity_scale(temperature))
     }
 
     /// The decay with the Stribeck velocity scaled by `vs_scale` (> 0).
@@ -289,11 +294,7 @@ impl<T: ModelFloat> FrictionModel<T> {
         let Some(s) = self.effects.stribeck_shape else {
             return T::zero();
         };
-        let scale = self
-            .effects
-            .temperature_dependence
-            .map_or(T::one(), |t| t.stribeck_velocity_scale(temperature));
-        let r = self.stribeck_ratio(velocity, scale);
+        let r = self.stribeck_ratio(velocity, self.stribeck_velocity_scale_at(temperature));
         math::decay(r / s.tail_scale.max(T::epsilon())) - math::decay(r.powf(s.exponent))
     }
 

@@ -349,7 +349,8 @@ fn refit_iterations(
             Cow::Borrowed(decay.as_slice())
         }
     };
-    // score a model: (weighted RSS, its simulation, its prediction). Only a model the
+    // score a model: (weighted RSS, its simulation, its prediction, the decay it used, kept
+    // for the columns built about it). Only a model the
     // columns are built about needs the whole simulation; a chord step's (its columns kept,
     // `Jacobian::Frozen`) needs the friction alone.
     let score = |m: &AxisModel, linearised_about: bool| {
@@ -368,12 +369,13 @@ fn refit_iterations(
             if rss.is_finite() { rss } else { f64::INFINITY },
             sim,
             filtered,
+            d,
         )
     };
     // The linearised step can overshoot where two effects are nearly collinear (an offset and
     // a direction-dependent Coulomb level differ only while stuck): an iterate is accepted only
     // if the real model scores better.
-    let (mut rss, mut sim, mut pred) = score(&model, true);
+    let (mut rss, mut sim, mut pred, mut model_decay) = score(&model, true);
     let mut estimates = Vec::new();
     let mut covariance = DMatrix::zeros(0, 0);
     // Levenberg-Marquardt damping mu (relative to the diagonal of J'J): raised tenfold when
@@ -387,7 +389,7 @@ fn refit_iterations(
                 &model,
                 &sim,
                 &pred,
-                &decay_of(&model),
+                &model_decay,
                 p,
                 fixed_mass,
                 held_viscous,
@@ -396,13 +398,15 @@ fn refit_iterations(
         });
         let (next, est, cov) = linear_step(l, p, mu);
         // a chord step's linearisation is moved, never built again, about the model it reaches
-        let (next_rss, next_sim, next_pred) = score(&next, jacobian == Jacobian::Rebuilt);
+        let (next_rss, next_sim, next_pred, next_decay) =
+            score(&next, jacobian == Jacobian::Rebuilt);
         if next_rss <= rss {
             let gain = (rss - next_rss) / rss.max(1e-300);
             model = next;
             rss = next_rss;
             sim = next_sim;
             pred = next_pred;
+            model_decay = next_decay;
             match (jacobian, lin.as_mut()) {
                 (Jacobian::Frozen, Some(l)) => reanchor(l, &model, &pred, p, fixed_mass),
                 _ => lin = None,

@@ -669,24 +669,22 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             // (the renewal distance on its decade grid left calibration dwell record 1701 at
             // 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE,
             // session 35)
-            let mut shape_profile: ShapeProfile = (searched_shapes.iter().zip(&on_grid))
-                .filter_map(|(s, (_, f, _))| s.map(|v| (v, f.rss)))
+            // (a shape value not searched whole enters at its first pass's best: the quick
+            // fits' residuals, as the whole searches')
+            let mut shape_profile: ShapeProfile = (shapes.iter().flatten())
+                .map(|&v| {
+                    let whole = (searched_shapes.iter().zip(&on_grid))
+                        .find(|(s, _)| **s == Some(v))
+                        .map(|(_, (_, f, _))| f.rss);
+                    let first_pass = || {
+                        (coarse.iter())
+                            .filter(|(_, s, ..)| *s == Some(v))
+                            .map(|(.., (_, f))| f.rss)
+                            .fold(f64::INFINITY, f64::min)
+                    };
+                    (v, whole.unwrap_or_else(first_pass))
+                })
                 .collect();
-            // the shape values not searched whole enter the profile at their first pass's
-            // best (the quick fits' residuals, as the whole searches')
-            if shape_first {
-                for s in shapes.iter().flatten() {
-                    if searched_shapes.contains(&Some(*s)) {
-                        continue;
-                    }
-                    let least = (coarse.iter())
-                        .filter(|(_, cs, ..)| *cs == Some(*s))
-                        .map(|(.., (_, f))| f.rss)
-                        .fold(f64::INFINITY, f64::min);
-                    shape_profile.push((*s, least));
-                }
-                shape_profile.sort_by(|a, b| a.0.total_cmp(&b.0));
-            }
             let vertex = shape_vertex_ln(&shape_profile).map(f64::exp).map(|v| {
                 let searched = search_at(Some(v));
                 shape_profile.push((v, searched.1.rss));
@@ -1321,9 +1319,10 @@ fn fit_from_table(out: &mut [Candidate], leader: Option<usize>, on: &Scope, refe
 /// checked again (`prefer_nested`). [`table_start`] fires where a candidate errs more than the
 /// table; a missing asymmetry can bend the baseline so far that the table, which has no
 /// Stribeck curve, errs as much as the bent candidates (asymmetry record 34280, issue's axes,
-/// never-run in session 98's issue table, where it named nothing; static ratio 0.86: the baseline at 19.93 % with `Fs` 817 N and `vs` 0.63 mm/s, the offset and
-/// asymmetry candidates at 16.15 and 16.23 %, cuts of 19 %, the table 16.69 %, and the
-/// asymmetry as a stage 0.98 % against a floor of 0.83 %). Only where nothing else answers, so
+/// never-run in session 98's issue table, where it named nothing; static ratio 0.86: the
+/// baseline at 19.93 % with `Fs` 817 N and `vs` 0.63 mm/s, the offset and asymmetry
+/// candidates at 16.15 and 16.23 %, cuts of 19 %, the table 16.69 %, and the asymmetry as a
+/// stage 0.98 % against a floor of 0.83 %). Only where nothing else answers, so
 /// the cost (two stage fits and a nested check) falls on records that would name nothing: no
 /// effect-free record of session 98's fifty left more than the measurement accounts for.
 fn table_start_where_unexplained(out: &mut Vec<Candidate>, on: &Scope, current: &Fit) {
