@@ -26,9 +26,10 @@
 //! schedules and noise otherwise. `--axes issue` draws the axes issue 9 describes its own check
 //! on (`generators::axis::Axes::Issue`: an ideal force actuator, 100..400 kg, soft and
 //! well-damped contacts), the same levels, effects, schedules and noise otherwise.
-//! `--dwell-law aging` ages dwell contacts by Dieterich and Ruina's aging law in place of an
-//! age that any slip renews (`generators::axis::DwellLaw`); records without dwell stiction are
-//! the same.
+//! Dwell contacts age by Dieterich and Ruina's aging law (since session 100);
+//! `--dwell-law restart` ages them as every suite before it did, by an age that restarts at a
+//! stick and that any slip renews (`generators::axis::DwellLaw`); records without dwell
+//! stiction are the same under both.
 //! `--write DIR
 //! [--seed N]` writes one record per effect to try.
 //!

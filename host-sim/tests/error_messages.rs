@@ -173,6 +173,12 @@ fn parameter_file_messages() {
         d.clock = DwellClock::ContactSlip;
     }
     round_trip(&on_slip, "slip.toml", "clock = \"contact_slip\"", "wall");
+    // the aging law (session 100), written and read back by its name
+    let mut aging = m;
+    if let Some(d) = aging.effects.dwell_stiction.as_mut() {
+        d.age_at_stick = DwellAge::Aging;
+    }
+    round_trip(&aging, "aging.toml", "age_at_stick = \"aging\"", "ageing");
     // the static asymmetry ratio: checked like the others; absent (older files) it is rc
     assert_eq!(
         read(&format!(

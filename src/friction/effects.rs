@@ -386,17 +386,24 @@ pub enum DwellAge {
     /// axis slides, the age the stick reached is forgotten over the renewal distance as with
     /// [`DwellAge::Accumulates`], so the breakaway peak fades the same way.
     Restarts,
+    /// Dieterich and Ruina's aging law: no stick threshold, the age grows with time and is
+    /// forgotten over the renewal distance `D` of the clock's slip `s`,
+    /// `d t_dwell/dt = 1 - t_dwell |ds/dt| / D` (implicit Euler, stable for any slip). A creep
+    /// of a nanometre takes a nanometre's share of it, and a steady slide at speed `v` holds the
+    /// age at `D / v`: the junctions a slow slide leaves time to grow strengthen it.
+    Aging,
 }
 
 impl DwellAge {
-    /// Both rules, the long-standing one first.
-    pub const ALL: [DwellAge; 2] = [DwellAge::Accumulates, DwellAge::Restarts];
+    /// Every rule, the long-standing one first.
+    pub const ALL: [DwellAge; 3] = [DwellAge::Accumulates, DwellAge::Restarts, DwellAge::Aging];
 
     /// The rule's name in parameter files and reports.
     pub const fn name(self) -> &'static str {
         match self {
             DwellAge::Accumulates => "accumulates",
             DwellAge::Restarts => "restarts",
+            DwellAge::Aging => "aging",
         }
     }
 }

@@ -477,13 +477,22 @@ impl<T: ModelFloat> FrictionModel<T> {
     ) -> (Levels<T>, Levels<T>) {
         if let Some(d) = self.effects.dwell_stiction {
             // Timer runs while stuck (from zero at each stick when the age restarts) and is
-            // forgotten over the renewal distance once the axis slides (a distance that is
-            // zero, negative or not a number forgets at once).
+            // forgotten over the renewal distance once the axis slides; under the aging law it
+            // runs and is forgotten at once, at every speed (a distance that is zero, negative
+            // or not a number forgets at once).
             let speed = match d.clock {
                 super::DwellClock::BodySpeed => mean_velocity.abs(),
                 super::DwellClock::ContactSlip => (mean_velocity - s.deflection_rate).abs(),
             };
-            if speed < d.stick_velocity {
+            if d.age_at_stick == super::DwellAge::Aging {
+                s.sliding = speed >= d.stick_velocity;
+                let slid = speed * dt / d.renewal_distance;
+                s.dwell_time = if slid.is_finite() && slid >= T::zero() {
+                    (s.dwell_time + dt) / (T::one() + slid)
+                } else {
+                    T::zero()
+                };
+            } else if speed < d.stick_velocity {
                 if s.sliding && d.age_at_stick == super::DwellAge::Restarts {
                     s.dwell_time = T::zero();
                 }
@@ -1342,6 +1351,62 @@ mod tests {
         // a state's given age carries into a first stick under either rule
         assert!(close(age_after(DwellAge::Restarts, 2.0)[0], 3.0));
         assert!(close(age_after(DwellAge::Accumulates, 2.0)[0], 3.0));
+    }
+
+    /// The aging law: the age grows as the time at rest, a steady slide holds it at `D / v`
+    /// (the implicit step's fixed point is exact), it renews over the renewal distance slid
+    /// whatever the speed (no stick threshold: a creep under it still renews), and a distance
+    /// that is not a positive number forgets at once.
+    #[test]
+    fn an_aging_age_grows_at_rest_and_a_steady_slide_holds_it_at_d_over_v() {
+        use crate::friction::DwellAge;
+        let mut m = dwell_at_rest_model();
+        if let Some(d) = m.effects.dwell_stiction.as_mut() {
+            d.age_at_stick = DwellAge::Aging;
+        }
+        let mut s = FrictionState::default();
+        for _ in 0..1000 {
+            m.step(&mut s, 0.0, &REF, 1e-3);
+        }
+        assert!((s.dwell_time - 1.0).abs() < 1e-9, "{}", s.dwell_time);
+        // 10 mm/s over a renewal distance of 1 mm: the age settles at 0.1 s
+        for _ in 0..5000 {
+            m.step(&mut s, 0.01, &REF, 1e-3);
+        }
+        assert!((s.dwell_time - 0.1).abs() < 1e-9, "{}", s.dwell_time);
+        // a creep at 0.05 mm/s, under the stick threshold of 0.1 mm/s, renews all the same:
+        // it settles at 20 s, not at the 20 s + the time spent (a stuck clock's)
+        let mut creep = FrictionState::default();
+        for _ in 0..200_000 {
+            m.step(&mut creep, 5e-5, &REF, 1e-3);
+        }
+        assert!(
+            (creep.dwell_time - 20.0).abs() < 0.01,
+            "{}",
+            creep.dwell_time
+        );
+        // one step's update is (t + h) / (1 + h |v| / D), whatever the speed's sign
+        let mut one = FrictionState {
+            dwell_time: 0.5,
+            ..FrictionState::default()
+        };
+        m.step(&mut one, -0.02, &REF, 1e-3);
+        assert!(
+            (one.dwell_time - 0.501 / 1.02).abs() < 1e-12,
+            "{}",
+            one.dwell_time
+        );
+        for bad in [0.0, f64::NAN, -1.0] {
+            let mut m = m;
+            if let Some(d) = m.effects.dwell_stiction.as_mut() {
+                d.renewal_distance = bad;
+            }
+            let mut s = FrictionState::default();
+            m.step(&mut s, 0.0, &REF, 1e-3);
+            let f = m.step(&mut s, 0.05, &REF, 1e-3);
+            assert_eq!(s.dwell_time, 0.0, "{bad}");
+            assert!(f.is_finite());
+        }
     }
 
     /// Only effects that leave the levels alone make them constant, and a step at those
