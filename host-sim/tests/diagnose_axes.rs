@@ -1100,25 +1100,6 @@ fn a_dwell_clock_on_the_contacts_slip_is_chosen_where_the_record_shows_it() {
     );
 }
 
-/// The fourth dwell rule (session 100): a contact whose junctions age by rate-and-state
-/// friction's aging law (the generator's `DwellLaw::Aging`) keeps an age `D / v` through a slow
-/// slide, which the three rules that renew only while sliding cannot follow. On the issue's
-/// axes, aging dwell record 35290 (used) errs 1.09 % with them, 2.0x its floor of 0.54 %, and
-/// 0.47 % with the aging law on the body's speed (`axis_suite 0 0 --axes issue --dwell-law aging
-/// --seeds dwell_stiction:35290`). Fails if the search does not try the aging law, or if the
-/// law does not reach the model.
-#[test]
-#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
-fn an_aging_dwell_rule_is_chosen_where_the_contact_ages_by_the_aging_law() {
-    dwell_rule_is_chosen(
-        35290,
-        DwellLaw::Aging,
-        DwellAge::Aging,
-        DwellClock::BodySpeed,
-        1.2,
-    );
-}
-
 /// Diagnoses the issue's axes' dwell record `seed`, its contact aged by `law`: the dwell term
 /// is named first, with the age rule `rule` on the clock `clock`, and errs at most
 /// `floor_factor` times the record's floor.

@@ -528,7 +528,7 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
                         key,
                         rule,
                         String::new(),
-                        "chosen by the data (accumulates, restarts or aging)".into(),
+                        "chosen by the data (accumulates or restarts)".into(),
                     ]
                 }
             };
