@@ -1055,13 +1055,7 @@ fn the_generator_truth_explains_its_record() {
 /// only, or if the rule does not reach the model.
 #[test]
 fn a_restarting_dwell_rule_is_chosen_where_the_record_shows_it() {
-    dwell_rule_is_chosen(
-        33711,
-        DwellLaw::RestartAtStick,
-        DwellAge::Restarts,
-        DwellClock::BodySpeed,
-        1.2,
-    );
+    dwell_rule_is_chosen(33711, DwellAge::Restarts, DwellClock::BodySpeed, 1.2);
 }
 
 /// The other half of [`a_restarting_dwell_rule_is_chosen_where_the_record_shows_it`]: on 33712
@@ -1073,13 +1067,7 @@ fn a_restarting_dwell_rule_is_chosen_where_the_record_shows_it() {
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_dwell_age_the_body_misses_is_kept_where_the_contact_shows_it() {
-    dwell_rule_is_chosen(
-        33712,
-        DwellLaw::RestartAtStick,
-        DwellAge::Restarts,
-        DwellClock::ContactSlip,
-        3.0,
-    );
+    dwell_rule_is_chosen(33712, DwellAge::Restarts, DwellClock::ContactSlip, 3.0);
 }
 
 /// The third dwell rule (session 89, searched whole only where a coarse first pass chooses it,
@@ -1091,26 +1079,14 @@ fn a_dwell_age_the_body_misses_is_kept_where_the_contact_shows_it() {
 /// if the first pass chooses another rule or the clock does not reach the model.
 #[test]
 fn a_dwell_clock_on_the_contacts_slip_is_chosen_where_the_record_shows_it() {
-    dwell_rule_is_chosen(
-        35110,
-        DwellLaw::RestartAtStick,
-        DwellAge::Restarts,
-        DwellClock::ContactSlip,
-        5.0,
-    );
+    dwell_rule_is_chosen(35110, DwellAge::Restarts, DwellClock::ContactSlip, 5.0);
 }
 
-/// Diagnoses the issue's axes' dwell record `seed`, its contact aged by `law`: the dwell term
-/// is named first, with the age rule `rule` on the clock `clock`, and errs at most
-/// `floor_factor` times the record's floor.
-fn dwell_rule_is_chosen(
-    seed: u64,
-    law: DwellLaw,
-    rule: DwellAge,
-    clock: DwellClock,
-    floor_factor: f64,
-) {
-    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, law);
+/// Diagnoses the issue's axes' dwell record `seed`: the dwell term is named first, with the
+/// age rule `rule` on the clock `clock`, and errs at most `floor_factor` times the record's
+/// floor.
+fn dwell_rule_is_chosen(seed: u64, rule: DwellAge, clock: DwellClock, floor_factor: f64) {
+    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::RestartAtStick);
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
     let opts = Options {
         skip_final_ranking: true,

@@ -486,12 +486,8 @@ impl<T: ModelFloat> FrictionModel<T> {
             };
             if d.age_at_stick == super::DwellAge::Aging {
                 s.sliding = speed >= d.stick_velocity;
-                let slid = speed * dt / d.renewal_distance;
-                s.dwell_time = if slid.is_finite() && slid >= T::zero() {
-                    (s.dwell_time + dt) / (T::one() + slid)
-                } else {
-                    T::zero()
-                };
+                s.dwell_time = share_of_renewal(speed, dt, d.renewal_distance)
+                    .map_or(T::zero(), |slid| (s.dwell_time + dt) / (T::one() + slid));
             } else if speed < d.stick_velocity {
                 if s.sliding && d.age_at_stick == super::DwellAge::Restarts {
                     s.dwell_time = T::zero();
@@ -500,12 +496,8 @@ impl<T: ModelFloat> FrictionModel<T> {
                 s.dwell_time = s.dwell_time + dt;
             } else {
                 s.sliding = true;
-                let slid = speed * dt / d.renewal_distance;
-                s.dwell_time = if slid.is_finite() && slid >= T::zero() {
-                    s.dwell_time * (-slid).exp()
-                } else {
-                    T::zero()
-                };
+                s.dwell_time = share_of_renewal(speed, dt, d.renewal_distance)
+                    .map_or(T::zero(), |slid| s.dwell_time * (-slid).exp());
             }
         }
         self.levels_by_direction_under(f, s.dwell_time)
@@ -623,6 +615,15 @@ impl<T: ModelFloat> FrictionModel<T> {
             + self.offset_force();
         (force, g)
     }
+}
+
+/// The share of the renewal distance `distance` \[m\] a dwell clock slides over a step of `dt`
+/// \[s\] at `speed` \[m/s\], `speed dt / D`; `None` where it is not a finite, non-negative number
+/// (a distance that is zero, negative or not a number), and the age is then forgotten at once.
+#[inline(always)]
+fn share_of_renewal<T: ModelFloat>(speed: T, dt: T, distance: T) -> Option<T> {
+    let slid = speed * dt / distance;
+    (slid.is_finite() && slid >= T::zero()).then_some(slid)
 }
 
 #[cfg(test)]
