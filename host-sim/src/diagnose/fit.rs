@@ -1524,7 +1524,8 @@ impl DwellRule {
 /// the body's speed it brought never-run aging dwell records within 1.2x their floor on 11 of
 /// 20 against 3, but named dwell stiction on effect-free record 138 (wide axes, baseline at
 /// 0.70x its floor; test `a_saturated_dwell_level_within_the_measurement_is_held`), where the
-/// three rules hold it.
+/// three rules hold it. It is searched where the term is added as a stage instead
+/// ([`STAGE_DWELL_RULE`]).
 pub const DWELL_RULES: [DwellRule; 3] = [
     DwellRule {
         age: DwellAge::Accumulates,
@@ -1539,6 +1540,17 @@ pub const DWELL_RULES: [DwellRule; 3] = [
         clock: DwellClock::ContactSlip,
     },
 ];
+
+/// The dwell rule searched only where a `dwell_stiction` term is added as a stage
+/// (`ranking::stage_fit`), never in the ranking that decides whether it is significant: the
+/// core's aging law ([`DwellAge::Aging`]) on the body's speed. An aging age held at `D / |v|`
+/// while sliding makes the term a function of the sliding speed too, so as a rule of the
+/// ranking it absorbed misfit that was no dwell stiction (effect-free record 138, wide axes,
+/// session 100); once the term is named or asked for, the data choose its rule among all four.
+pub const STAGE_DWELL_RULE: DwellRule = DwellRule {
+    age: DwellAge::Aging,
+    clock: DwellClock::BodySpeed,
+};
 
 /// The rules of `effect` the data choose between, each searched at every shape value on every
 /// other point of the effect's grid, the best one then over the whole grid: the dwell's
@@ -1780,7 +1792,8 @@ mod chord_tests {
     /// Every dwell rule the data choose reaches the model whole: its age rule, its clock and
     /// its clock's stick threshold (a slip clock left at the body's threshold, four times
     /// its own, counts most of a slide as a stick), and reads back as itself; the rules are
-    /// distinct, so none is searched twice.
+    /// distinct, so none is searched twice; the stage's own rule is none of the ranking's, and
+    /// between them every age rule of the core is searched.
     #[test]
     fn a_dwell_rule_reaches_the_model_with_its_clocks_threshold() {
         let mut m = truth();
@@ -1792,8 +1805,16 @@ mod chord_tests {
             age_at_stick: DwellAge::Accumulates,
             clock: DwellClock::BodySpeed,
         });
-        let searched = rules(EffectKind::DwellStiction);
-        assert_eq!(searched.len(), DWELL_RULES.len());
+        let ranked = rules(EffectKind::DwellStiction);
+        assert_eq!(ranked.len(), DWELL_RULES.len());
+        assert!(!ranked.contains(&STAGE_DWELL_RULE));
+        let searched: Vec<DwellRule> = ranked.iter().copied().chain([STAGE_DWELL_RULE]).collect();
+        for age in DwellAge::ALL {
+            assert!(
+                searched.iter().any(|r| r.age == age),
+                "{age:?} never searched"
+            );
+        }
         for (i, &rule) in searched.iter().enumerate() {
             assert!(!searched[..i].contains(&rule), "{rule:?} twice");
             let with = with_dwell_rule(&m, rule);

@@ -1179,19 +1179,68 @@ pub(super) fn stage_fit(
     on: &Scope,
 ) -> Fit {
     let stage_search = |f: &Fit| on.polish(f, Some(e), Search::STAGE);
-    let (from_candidate, second) = rayon::join(
-        || stage_search(candidate),
-        || match model_start {
-            Some(f) => stage_search(f),
-            None => from_static_table(e, candidate, on),
+    let ((from_candidate, second), aging) = rayon::join(
+        || {
+            rayon::join(
+                || stage_search(candidate),
+                || match model_start {
+                    Some(f) => stage_search(f),
+                    None => from_static_table(e, candidate, on),
+                },
+            )
         },
+        || (e == EffectKind::DwellStiction).then(|| stage_search(&aging_start(candidate, on))),
     );
-    // the candidate's start wins ties
-    if second.rss < from_candidate.rss {
+    // the candidate's start wins ties, then the ranking's rules
+    let best = if second.rss < from_candidate.rss {
         second
     } else {
         from_candidate
+    };
+    match aging {
+        Some(a) if a.rss < best.rss => a,
+        _ => best,
     }
+}
+
+/// A dwell stage's third start: the candidate's term under the stage-only aging rule
+/// ([`fit::STAGE_DWELL_RULE`]), its time constant and renewal distance searched on the
+/// effect's grids as the ranking searches its rules (every renewal distance, then the vertex
+/// between the best and its neighbours in ln), the best by the grid's objective. Under the
+/// aging law the renewal distance sets the age held while sliding (`D / |v|`), so it is
+/// searched here and not left at the candidate's.
+fn aging_start(candidate: &Fit, on: &Scope) -> Fit {
+    let info = effect_info(EffectKind::DwellStiction);
+    let (Some((_, taus, _)), Some((_, distances))) = (info.nonlinear, info.shape) else {
+        return candidate.clone();
+    };
+    let n_eff = on.fitting.n_eff;
+    let aging = fit::with_dwell_rule(&candidate.model, fit::STAGE_DWELL_RULE);
+    let at = |distance: f64, tau: f64| {
+        let m = fit::with_shape(&aging, info.kind, distance);
+        let f = on
+            .fitting
+            .refit_quick(&fit::add_effect(&m, info.kind, on.fitting.p, tau));
+        (grid_objective(info, tau, f.rss, n_eff), f)
+    };
+    let best_at = |distance: f64| {
+        taus.par_iter()
+            .map(|&tau| at(distance, tau))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+    };
+    let mut found: Vec<(f64, (f64, Fit))> = distances
+        .par_iter()
+        .filter_map(|&d| best_at(d).map(|b| (d, b)))
+        .collect();
+    let profile: Vec<(f64, f64)> = found.iter().map(|(d, (_, f))| (*d, f.rss)).collect();
+    if let Some(d) = shape_vertex_ln(&profile).map(f64::exp) {
+        found.extend(best_at(d).map(|b| (d, b)));
+    }
+    found
+        .into_iter()
+        .map(|(_, b)| b)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map_or_else(|| candidate.clone(), |(_, f)| f)
 }
 
 /// A significant candidate's fit with its effect switched off again must not beat the current

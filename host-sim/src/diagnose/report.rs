@@ -522,15 +522,14 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
             let value = match value {
                 Entry::Number(x) => num(x),
                 // (the only rule: the dwell's age, which the candidate's search chose)
-                Entry::Rule(rule) => {
-                    return vec![
-                        section,
-                        key,
-                        rule,
-                        String::new(),
-                        "chosen by the data (accumulates or restarts)".into(),
-                    ]
-                }
+                Entry::Rule(rule) => return vec![
+                    section,
+                    key,
+                    rule,
+                    String::new(),
+                    "chosen by the data (accumulates or restarts; aging where the term is added)"
+                        .into(),
+                ],
             };
             let status = if let Some(p) = prior {
                 format!("prior: {}", p.1)
