@@ -4,6 +4,7 @@ use host_sim::diagnose::{self, inverse::AxisModel, Diagnosis, Options};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
 use host_sim::{Error, Result};
+use lugre_servo::friction::EffectKind;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -428,6 +429,20 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
                 p.bristle_damping(),
                 p.stribeck_velocity() * 1e3,
                 p.bristle_stiffness()
+            );
+        }
+        // the dwell term a stage added: its rule may be the stage's own (the aging law), which
+        // no candidate line shows
+        if let (Some(EffectKind::DwellStiction), Some(t)) =
+            (s.effect, m.friction.effects.dwell_stiction.as_ref())
+        {
+            println!(
+                "   dwell term: rises by {:.3} N, time constant {:.3} s, renewal distance {:.3} mm, age rule {}, clock {}",
+                t.max_increase,
+                t.time_constant,
+                t.renewal_distance * 1e3,
+                t.age_at_stick.name(),
+                t.clock.name()
             );
         }
         for r in &s.restarts {
