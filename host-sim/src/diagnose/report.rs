@@ -521,15 +521,18 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
             });
             let value = match value {
                 Entry::Number(x) => num(x),
-                // (the only rule: the dwell's age, which the candidate's search chose)
-                Entry::Rule(rule) => return vec![
-                    section,
-                    key,
-                    rule,
-                    String::new(),
-                    "chosen by the data (accumulates or restarts; aging where the term is added)"
-                        .into(),
-                ],
+                // (the only rules: the dwell's age and clock, which the candidate's search
+                // chose, or the stage's where the term was added under the aging law)
+                Entry::Rule(rule) => {
+                    let how = match key.as_str() {
+                        "age_at_stick" => {
+                            "chosen by the data (accumulates or restarts; aging once added)"
+                        }
+                        "clock" => "chosen by the data (body_speed or contact_slip)",
+                        _ => "chosen by the data",
+                    };
+                    return vec![section, key, rule, String::new(), how.into()];
+                }
             };
             let status = if let Some(p) = prior {
                 format!("prior: {}", p.1)
