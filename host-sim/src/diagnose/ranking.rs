@@ -1205,8 +1205,9 @@ pub(super) fn stage_fit(
 
 /// A dwell stage's third start: the candidate's term under the stage-only aging rule
 /// ([`fit::STAGE_DWELL_RULE`]), its time constant and renewal distance searched on the
-/// effect's grids as the ranking searches its rules (every renewal distance, then the vertex
-/// between the best and its neighbours in ln), the best by the grid's objective. Under the
+/// effect's grids as the ranking searches its rules (`effect_grid_min`, with its parabola
+/// between grid points, at every renewal distance, then at the vertex between the best
+/// distance and its neighbours in ln), the best by the grid's objective. Under the
 /// aging law the renewal distance sets the age held while sliding (`D / |v|`), so it is
 /// searched here and not left at the candidate's.
 fn aging_start(candidate: &Fit, on: &Scope) -> Fit {
@@ -1223,22 +1224,16 @@ fn aging_start(candidate: &Fit, on: &Scope) -> Fit {
             .refit_quick(&fit::add_effect(&m, info.kind, on.fitting.p, tau));
         (grid_objective(info, tau, f.rss, n_eff), f)
     };
-    let best_at = |distance: f64| {
-        taus.par_iter()
-            .map(|&tau| at(distance, tau))
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-    };
-    let mut found: Vec<(f64, (f64, Fit))> = distances
-        .par_iter()
-        .filter_map(|&d| best_at(d).map(|b| (d, b)))
-        .collect();
-    let profile: Vec<(f64, f64)> = found.iter().map(|(d, (_, f))| (*d, f.rss)).collect();
+    let search_at = |distance: f64| effect_grid_min(info, taus, |tau| at(distance, tau));
+    let mut found: Vec<(f64, fit::GridResult<Fit>)> =
+        distances.par_iter().map(|&d| (d, search_at(d))).collect();
+    let profile: Vec<(f64, f64)> = found.iter().map(|(d, (_, f, _))| (*d, f.rss)).collect();
     if let Some(d) = shape_vertex_ln(&profile).map(f64::exp) {
-        found.extend(best_at(d).map(|b| (d, b)));
+        found.push((d, search_at(d)));
     }
     found
         .into_iter()
-        .map(|(_, b)| b)
+        .map(|(_, (tau, f, _))| (grid_objective(info, tau, f.rss, n_eff), f))
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .map_or_else(|| candidate.clone(), |(_, f)| f)
 }
