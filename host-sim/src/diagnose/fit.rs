@@ -2008,53 +2008,6 @@ mod chord_tests {
         }
     }
 
-    /// A stage's polish moves a dwell term's renewal distance off the decade the candidate
-    /// picked (`search::refine_shape`): on a record whose aging term forgets over 0.3 mm,
-    /// started at 1 mm (the grid's decade), it finds the distance within 20 % and the error
-    /// falls by half or more (measured: 0.354 mm, 0.85 -> 0.15 %); started at the truth, it
-    /// leaves the distance within 10 %.
-    #[test]
-    fn a_stage_moves_the_renewal_distance_off_its_decade() {
-        let with_distance = |d: f64| {
-            let mut m = truth();
-            m.friction.effects.dwell_stiction = Some(fx::DwellStiction {
-                max_increase: 150.0,
-                time_constant: 0.2,
-                stick_velocity: DWELL_STICK_VELOCITY,
-                renewal_distance: d,
-                age_at_stick: DwellAge::Aging,
-                clock: DwellClock::BodySpeed,
-            });
-            m
-        };
-        let distance_of = |f: &Fit| shape_value(&f.model, EffectKind::DwellStiction).unwrap();
-        let p = record_of(&with_distance(3e-4));
-        let on = Fitting {
-            p: &p,
-            fixed_mass: None,
-            n_eff: 200.0,
-        };
-        let start = on.refit(&with_distance(1e-3));
-        let found = crate::diagnose::refine_shape(&start, EffectKind::DwellStiction, on)
-            .expect("a distance that matters");
-        let d = distance_of(&found);
-        eprintln!(
-            "distance {:.3} mm, error {:.3} -> {:.3} %",
-            1e3 * d,
-            start.rel_err_pct,
-            found.rel_err_pct
-        );
-        assert!((d / 3e-4).ln().abs() < 1.2f64.ln(), "{d:e}");
-        assert!(found.rel_err_pct < 0.5 * start.rel_err_pct);
-        let at_truth = on.refit(&with_distance(3e-4));
-        if let Some(f) = crate::diagnose::refine_shape(&at_truth, EffectKind::DwellStiction, on) {
-            let d0 = distance_of(&f);
-            assert!((d0 / 3e-4).ln().abs() < 1.1f64.ln(), "{d0:e}");
-        }
-        // an effect without a shape parameter is not searched
-        assert!(crate::diagnose::refine_shape(&start, EffectKind::Offset, on).is_none());
-    }
-
     /// A linearisation moved to the model it was built about is that linearisation bit for
     /// bit: the re-anchoring shares the target and the right-hand side with the build.
     #[test]

@@ -471,14 +471,6 @@ pub fn polish(current: &Fit, effect: Option<EffectKind>, on: Fitting<'_>, search
             best = f;
             steps.moved();
         }
-        // a refining polish (a stage's) moves the effect's shape parameter too
-        let shape = (refine && effect.is_some_and(|e| SHAPE_REFINED.contains(&e)))
-            .then(|| steps.run(k + 2, false, !last, || refine_shape(&best, effect?, on)))
-            .flatten();
-        if let Some(f) = shape {
-            best = f;
-            steps.moved();
-        }
     }
     mark_unidentified_linear(&mut best, on);
     best
@@ -598,48 +590,6 @@ pub(super) fn search_stribeck_ratio(current: &Fit, on: Fitting<'_>) -> Option<Fi
     }
     f.flags = current.flags.clone();
     Some(f)
-}
-
-/// The effects whose shape parameter ([`EffectInfo::shape`]) a stage's polish searches again
-/// ([`refine_shape`]), in every round of a refining [`Search`]: a dwell term's renewal
-/// distance. The candidate picks it on a grid of decades (and the ln vertex between the best
-/// and its neighbours) with the baseline's Stribeck velocity and stiffness, which the missing
-/// term bent; nothing moved it after. Under the aging rule the distance sets the age held
-/// while sliding (`D / |v|`), so the term shapes the friction at every speed, and the polish's
-/// vs and the time constant settle around a distance a decade's grid left off (used dwell
-/// record 35404: 1.02 % with the distance left, 0.66 % searched again, the floor 0.52 %).
-/// Not the ranking's: a candidate's polish does not refine, so no effect is named otherwise.
-pub const SHAPE_REFINED: [EffectKind; 1] = [EffectKind::DwellStiction];
-
-/// The steps of [`refine_shape`]'s scan about the current value, in ln: `sqrt(2)` apart,
-/// three each way (a factor of 2.8 either side).
-const SHAPE_REFINE_STEPS: std::ops::RangeInclusive<i32> = -3..=3;
-
-/// The fit with effect `e`'s shape parameter ([`EffectInfo::shape`]) searched about its value
-/// (the other nonlinear parameters held): seven points `sqrt(2)` apart in ln, within the
-/// shape grid's ends, the linear parameters refitted quickly at each, closed by the parabola
-/// through the best point and its neighbours (in ln); the best point refitted fully, then the
-/// effect's own nonlinear parameter searched again from there ([`regrid_effect`]). `Some` only
-/// where that lowers the residual (and `e` has a shape parameter). It keeps `current`'s flags.
-pub(super) fn refine_shape(current: &Fit, e: EffectKind, on: Fitting<'_>) -> Option<Fit> {
-    let (_, grid) = effect_info(e).shape?;
-    let value = fit::shape_value(&current.model, e)?;
-    let lo = grid.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = grid.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let steps: Vec<f64> = SHAPE_REFINE_STEPS
-        .map(|k| value.ln() + 0.5 * std::f64::consts::LN_2 * f64::from(k))
-        .collect();
-    let (_, quick, _) = fit::grid_min(&steps, |ln_value| {
-        let at = ln_value.exp().clamp(lo, hi);
-        let f = on.refit_quick(&fit::with_shape(&current.model, e, at));
-        (f.rss, f)
-    });
-    let moved = on.refit(&quick.model);
-    let mut best = regrid_effect(&moved, e, on).unwrap_or(moved);
-    (best.rss < current.rss).then(|| {
-        best.flags = current.flags.clone();
-        best
-    })
 }
 
 /// The fit with effect `e`'s own nonlinear parameter searched again on its grid (the other
