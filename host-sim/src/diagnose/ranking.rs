@@ -571,6 +571,33 @@ fn judge_all(out: Vec<Candidate>, on: &Scope, reference: &Current) -> Vec<Candid
 /// A profile over an effect's second shape parameter: (value, residual sum of squares).
 type ShapeProfile = Vec<(f64, f64)>;
 
+/// The grid searches at an effect's shape values (`on_grid`, whose residuals `shape_profile`
+/// holds), then one more at the vertex in ln of the profile's best value and its neighbours
+/// (`shape_vertex_ln`; its residual added to the profile): the best by `objective` (a NaN
+/// never best), the first of equals in the order searched (`None` where nothing was searched).
+fn best_over_shapes(
+    on_grid: Vec<fit::GridResult<Fit>>,
+    shape_profile: &mut ShapeProfile,
+    search_at: impl Fn(f64) -> fit::GridResult<Fit>,
+    objective: impl Fn(f64, &Fit) -> f64,
+) -> Option<fit::GridResult<Fit>> {
+    let vertex = shape_vertex_ln(shape_profile).map(f64::exp).map(|v| {
+        let searched = search_at(v);
+        shape_profile.push((v, searched.1.rss));
+        searched
+    });
+    let mut best: Option<fit::GridResult<Fit>> = None;
+    for (x, f, profile) in on_grid.into_iter().chain(vertex) {
+        if best
+            .as_ref()
+            .is_none_or(|(bx, bf, _)| objective(x, &f).total_cmp(&objective(*bx, bf)).is_lt())
+        {
+            best = Some((x, f, profile));
+        }
+    }
+    best
+}
+
 /// A point of the first pass over an effect's rules or second shape parameter: the rule (none
 /// for an effect without rules), the second shape parameter's value, the nonlinear
 /// parameter's value, and there the grid objective and the quick fit.
@@ -685,22 +712,12 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     (v, whole.unwrap_or_else(first_pass))
                 })
                 .collect();
-            let vertex = shape_vertex_ln(&shape_profile).map(f64::exp).map(|v| {
-                let searched = search_at(Some(v));
-                shape_profile.push((v, searched.1.rss));
-                searched
-            });
-            // the best fit over the shape values, kept in the order searched
-            let mut best: Option<fit::GridResult<Fit>> = None;
-            for (x, f, profile) in on_grid.into_iter().chain(vertex) {
-                if best
-                    .as_ref()
-                    .is_none_or(|(bx, bf, _)| objective(x, &f) < objective(*bx, bf))
-                {
-                    best = Some((x, f, profile));
-                }
-            }
-            let Some((x, f, profile)) = best else {
+            let Some((x, f, profile)) = best_over_shapes(
+                on_grid,
+                &mut shape_profile,
+                |v| search_at(Some(v)),
+                objective,
+            ) else {
                 unreachable!("at least one shape value is searched")
             };
             let f = on.refit(&f.model);
@@ -1207,9 +1224,9 @@ pub(super) fn stage_fit(
 /// ([`fit::STAGE_DWELL_RULE`]), its time constant and renewal distance searched on the
 /// effect's grids as the ranking searches its rules (`effect_grid_min`, with its parabola
 /// between grid points, at every renewal distance, then at the vertex between the best
-/// distance and its neighbours in ln), the best by the grid's objective. Under the
-/// aging law the renewal distance sets the age held while sliding (`D / |v|`), so it is
-/// searched here and not left at the candidate's.
+/// distance and its neighbours in ln: [`best_over_shapes`]), the best by the grid's
+/// objective. Under the aging law the renewal distance sets the age held while sliding
+/// (`D / |v|`), so it is searched here and not left at the candidate's.
 fn aging_start(candidate: &Fit, on: &Scope) -> Fit {
     let info = effect_info(EffectKind::DwellStiction);
     let (Some((_, taus, _)), Some((_, distances))) = (info.nonlinear, info.shape) else {
@@ -1225,17 +1242,13 @@ fn aging_start(candidate: &Fit, on: &Scope) -> Fit {
         (grid_objective(info, tau, f.rss, n_eff), f)
     };
     let search_at = |distance: f64| effect_grid_min(info, taus, |tau| at(distance, tau));
-    let mut found: Vec<(f64, fit::GridResult<Fit>)> =
-        distances.par_iter().map(|&d| (d, search_at(d))).collect();
-    let profile: Vec<(f64, f64)> = found.iter().map(|(d, (_, f, _))| (*d, f.rss)).collect();
-    if let Some(d) = shape_vertex_ln(&profile).map(f64::exp) {
-        found.push((d, search_at(d)));
-    }
-    found
-        .into_iter()
-        .map(|(_, (tau, f, _))| (grid_objective(info, tau, f.rss, n_eff), f))
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .map_or_else(|| candidate.clone(), |(_, f)| f)
+    let on_grid: Vec<fit::GridResult<Fit>> = distances.par_iter().map(|&d| search_at(d)).collect();
+    let mut profile: ShapeProfile = (distances.iter().zip(&on_grid))
+        .map(|(d, (_, f, _))| (*d, f.rss))
+        .collect();
+    let objective = |tau: f64, f: &Fit| grid_objective(info, tau, f.rss, n_eff);
+    best_over_shapes(on_grid, &mut profile, search_at, objective)
+        .map_or_else(|| candidate.clone(), |(_, f, _)| f)
 }
 
 /// A significant candidate's fit with its effect switched off again must not beat the current
