@@ -180,6 +180,9 @@ mod tables {
         /// absent in files written before session 89 (their clock read the body's speed)
         #[serde(default)]
         pub clock: crate::friction::DwellClock,
+        /// absent in files written before session 103 (their increase grew exponentially)
+        #[serde(default)]
+        pub growth: crate::friction::DwellGrowth,
     }
     fn default_renewal() -> f64 {
         super::DEFAULT_RENEWAL_DISTANCE_M
@@ -295,6 +298,7 @@ impl ParamFile {
                     renewal_distance_m: d.renewal_distance,
                     age_at_stick: d.age_at_stick,
                     clock: d.clock,
+                    growth: d.growth,
                 }),
             },
             fit: FitSection::default(),
@@ -507,6 +511,7 @@ impl ParamFile {
                 renewal_distance: d.renewal_distance_m,
                 age_at_stick: d.age_at_stick,
                 clock: d.clock,
+                growth: d.growth,
             });
         }
         Ok(FrictionModel { params, effects })

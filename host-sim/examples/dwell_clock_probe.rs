@@ -179,6 +179,7 @@ fn per_record(seed: u64, fit_mode: bool, draw: Draw) -> String {
                     renewal_distance: renewal,
                     age_at_stick,
                     clock,
+                    growth: lugre_servo::friction::DwellGrowth::Exponential,
                 });
                 let f = fit::refit(&m, p, None, n_eff);
                 if f.rel_err_pct < best.0 {

@@ -62,6 +62,7 @@ pub fn with_effect(cfg: &mut PlantConfig, name: &str, strength: f64) -> crate::R
                 renewal_distance: crate::params_file::DEFAULT_RENEWAL_DISTANCE_M,
                 age_at_stick: fx::DwellAge::Accumulates,
                 clock: fx::DwellClock::BodySpeed,
+                growth: lugre_servo::friction::DwellGrowth::Exponential,
             })
         }
     }

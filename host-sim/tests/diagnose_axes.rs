@@ -17,7 +17,7 @@ use host_sim::diagnose::inverse::{Prepared, Protocol};
 use host_sim::diagnose::{self, Diagnosis, Options};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
-use lugre_servo::friction::{DwellAge, DwellClock, EffectKind};
+use lugre_servo::friction::{DwellAge, DwellClock, DwellGrowth, EffectKind};
 use std::path::Path;
 
 fn diagnose(effect: Option<&'static str>, seed: u64, add: &[&str]) -> (Diagnosis, Axis) {
@@ -1131,6 +1131,48 @@ fn a_dwell_stage_takes_the_aging_rule_where_the_contact_ages_by_it() {
     assert!(
         added <= 1.2 * floor,
         "{added:.2} % against the floor {floor:.2} %"
+    );
+}
+
+/// The growth's form where a dwell term is added as a stage (session 103,
+/// `ranking::growth_start`): the generator's contacts grow their junctions by a Hill law, whose
+/// tail is slower than the exponential's. On the issue's axes, used aging dwell record 35427
+/// (Hill exponent 1.12) is named by the ranking, which fits the exponential alone; the stage
+/// takes the hyperbolic form and errs within 1.2x the record's floor (0.51 % against 0.53 %,
+/// where the exponential's best stage erred 0.58 %: `host-sim diagnose --data dwell_stiction.csv
+/// --add dwell_stiction` on `axis_suite --write DIR --seed 35427 --axes issue`). Fails if the
+/// ranking fits another form, if the stage does not choose the hyperbolic, or if it errs more
+/// than the exponential's stage did.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn a_dwell_stage_takes_the_hyperbolic_growth_where_it_fits_better() {
+    let seed = 35427;
+    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::Aging);
+    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+    let opts = Options {
+        add: vec!["dwell_stiction".into()],
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    assert_eq!(
+        first_significant(&d.stages[0].candidates),
+        Some("dwell_stiction"),
+        "{}",
+        report(&d)
+    );
+    let ranked = dwell_candidate(&d.stages[0]);
+    let ranked_growth = ranked.dwell.as_ref().and_then(|e| e.growth);
+    assert_eq!(ranked_growth, Some(DwellGrowth::Exponential));
+    let p = Prepared::new(&rec, "axis.csv", Protocol::default()).unwrap();
+    let floor = truth_error_pct(&axis, &p);
+    let stage = d.last_stage();
+    let term = stage.fit.model.friction.effects.dwell_stiction.unwrap();
+    assert_eq!(term.growth, DwellGrowth::Hyperbolic, "{term:?}");
+    let added = stage.fit.rel_err_pct;
+    assert!(
+        added <= 1.2 * floor && added < 0.55,
+        "{added:.3} % against the floor {floor:.3} %"
     );
 }
 

@@ -6,7 +6,7 @@ use host_sim::diagnose::{self, across, Options};
 use host_sim::params_file::ParamFile;
 use host_sim::record::Record;
 use host_sim::{identify, scenarios, timing};
-use lugre_servo::friction::{DwellAge, DwellClock, FrictionModel};
+use lugre_servo::friction::{DwellAge, DwellClock, DwellGrowth, FrictionModel};
 use std::path::Path;
 
 const GOOD: &str = "[lugre]\nbristle_stiffness_n_per_m = 3.9e9\nbristle_damping_n_s_per_m = 200.0\nviscous_coefficient_n_s_per_m = 48900.0\ncoulomb_force_n = 506.0\nstatic_force_n = 632.0\nstribeck_velocity_m_per_s = 0.005\n[axis]\nmoving_mass_kg = 200.0\n";
@@ -179,6 +179,22 @@ fn parameter_file_messages() {
         d.age_at_stick = DwellAge::Aging;
     }
     round_trip(&aging, "aging.toml", "age_at_stick = \"aging\"", "ageing");
+    // the growth's form (session 103): absent (older files) the exponential they were fitted
+    // with; the hyperbolic written and read back by its name
+    assert_eq!(
+        m.effects.dwell_stiction.map(|d| d.growth),
+        Some(DwellGrowth::Exponential)
+    );
+    let mut hyperbolic = aging;
+    if let Some(d) = hyperbolic.effects.dwell_stiction.as_mut() {
+        d.growth = DwellGrowth::Hyperbolic;
+    }
+    round_trip(
+        &hyperbolic,
+        "hyperbolic.toml",
+        "growth = \"hyperbolic\"",
+        "logarithmic",
+    );
     // the static asymmetry ratio: checked like the others; absent (older files) it is rc
     assert_eq!(
         read(&format!(

@@ -14,7 +14,7 @@
 //! | `temperature_dependence` | `sigma2 -> sigma2 eta`, `eta = exp(-k_v (T - T_ref))`, `Fc, Fs -> (1 + k_c (T - T_ref)) Fc, Fs`, `vs -> vs eta^-q` (the Stribeck curve a function of the Hersey number `eta v`) |
 //! | `stribeck_shape` | `g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)` with `delta != 2` |
 //! | `viscous_power` | `F_visc = sigma2 v_r sign(v) |v / v_r|^delta` (equals `sigma2 v` at `v = v_r`) |
-//! | `dwell_stiction` | `Fs += dF (1 - exp(-t_dwell / tau))`, `t_dwell` = time stuck (carried on from the last slide or restarted at each stick: [`DwellAge`]; stuck: the body's speed or the contact's slip under a threshold, [`DwellClock`]), forgotten as `exp(-s / D)` over the slid distance `s` |
+//! | `dwell_stiction` | `Fs += dF w(t_dwell)`, `w = 1 - exp(-t_dwell / tau)` or `t_dwell / (t_dwell + tau)` ([`DwellGrowth`]), `t_dwell` = time stuck (carried on from the last slide or restarted at each stick: [`DwellAge`]; stuck: the body's speed or the contact's slip under a threshold, [`DwellClock`]), forgotten as `exp(-s / D)` over the slid distance `s` |
 
 use num_traits::Float;
 
@@ -334,6 +334,56 @@ pub struct DwellStiction<T> {
     pub age_at_stick: DwellAge,
     /// Whose speed tells a stick, and how far the contact slid: the body's or the contact's.
     pub clock: DwellClock,
+    /// How the increase grows with the age: the share `w(t_dwell)` of `dF` it has reached.
+    pub growth: DwellGrowth,
+}
+
+impl<T: Float> DwellStiction<T> {
+    /// The share of `dF` reached at the age `age` \[s\] (in `[0, 1)`; a negative age counts as
+    /// zero): `1 - exp(-t / tau)` or `t / (t + tau)` as [`Self::growth`] says.
+    #[inline(always)]
+    pub fn grown_share(&self, age: T) -> T {
+        let tau = self.time_constant.max(T::min_positive_value());
+        let t = age.max(T::zero());
+        match self.growth {
+            DwellGrowth::Exponential => -(-t / tau).exp_m1(),
+            DwellGrowth::Hyperbolic => t / (t + tau),
+        }
+    }
+}
+
+/// How `dwell_stiction`'s increase grows with the age `t_dwell` (no law fixes the form, so
+/// the data choose it). Contact strength grows with the logarithm of the contact time over
+/// decades (Rabinowicz; Dieterich), slower than any exponential; the hyperbolic form is a
+/// bounded growth with that slow tail, half-grown at `tau` as the exponential is at
+/// `0.69 tau`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "params-file",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "snake_case")
+)]
+pub enum DwellGrowth {
+    /// `w = 1 - exp(-t_dwell / tau)`: grown within a few `tau` (the only form before
+    /// session 103).
+    #[default]
+    Exponential,
+    /// `w = t_dwell / (t_dwell + tau)`: a tail that falls as `tau / t_dwell`, still growing
+    /// at ten times `tau` (by 9 % of `dF` from `10 tau` to `100 tau`).
+    Hyperbolic,
+}
+
+impl DwellGrowth {
+    /// Both forms, the long-standing one first.
+    pub const ALL: [DwellGrowth; 2] = [DwellGrowth::Exponential, DwellGrowth::Hyperbolic];
+
+    /// The form's name in parameter files and reports.
+    pub const fn name(self) -> &'static str {
+        match self {
+            DwellGrowth::Exponential => "exponential",
+            DwellGrowth::Hyperbolic => "hyperbolic",
+        }
+    }
 }
 
 /// What `dwell_stiction`'s clock reads as the speed that tells a stick from a slide, and
@@ -585,6 +635,7 @@ impl<T: Float> Effects<T> {
                 renewal_distance: c(d.renewal_distance),
                 age_at_stick: d.age_at_stick,
                 clock: d.clock,
+                growth: d.growth,
             }),
         }
     }
@@ -691,6 +742,7 @@ pub(crate) fn every_effect() -> Effects<f64> {
         renewal_distance: 1e-4,
         age_at_stick: DwellAge::Accumulates,
         clock: DwellClock::BodySpeed,
+        growth: crate::friction::DwellGrowth::Exponential,
     });
     all
 }

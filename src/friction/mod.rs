@@ -6,7 +6,9 @@ pub mod lugre;
 pub mod model;
 pub mod params;
 
-pub use effects::{Conditions, DwellAge, DwellClock, EffectKind, Effects, UnknownEffect};
+pub use effects::{
+    Conditions, DwellAge, DwellClock, DwellGrowth, EffectKind, Effects, UnknownEffect,
+};
 pub use lugre::{bristle_step, driven_bristle_step, BristleStep, LugreState};
 pub use model::{ConstantLevels, CurveStep, FrictionModel, FrictionState, Levels, UnderConditions};
 pub use params::{LugreParams, ParamError, ParamErrorKind, ParamField, ParamWarning};

@@ -145,10 +145,9 @@ impl<T: ModelFloat> FrictionModel<T> {
     /// (`None` without it).
     #[inline(always)]
     fn dwell_increase(&self, dwell_time: T) -> Option<T> {
-        self.effects.dwell_stiction.map(|d| {
-            let tau = d.time_constant.max(T::min_positive_value());
-            d.max_increase * (-(-dwell_time / tau).exp_m1())
-        })
+        self.effects
+            .dwell_stiction
+            .map(|d| d.max_increase * d.grown_share(dwell_time))
     }
 
     /// What conditions `c` do to the levels of this model, and of every model with its effects,
@@ -706,6 +705,7 @@ mod tests {
             renewal_distance: 1e-3,
             age_at_stick: crate::friction::DwellAge::Accumulates,
             clock: crate::friction::DwellClock::BodySpeed,
+            growth: crate::friction::DwellGrowth::Exponential,
         });
         let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
         for i in 0..4000 {
@@ -952,6 +952,7 @@ mod tests {
                 renewal_distance: 1e-4,
                 age_at_stick: crate::friction::DwellAge::Accumulates,
                 clock: crate::friction::DwellClock::BodySpeed,
+                growth: crate::friction::DwellGrowth::Exponential,
             }),
         };
         // the same effects at other levels (a refined model)
@@ -1234,6 +1235,7 @@ mod tests {
             renewal_distance: 1e-3,
             age_at_stick: crate::friction::DwellAge::Accumulates,
             clock: crate::friction::DwellClock::BodySpeed,
+            growth: crate::friction::DwellGrowth::Exponential,
         });
         m
     }
@@ -1255,6 +1257,7 @@ mod tests {
                 renewal_distance: 1e-3,
                 age_at_stick: DwellAge::Restarts,
                 clock,
+                growth: crate::friction::DwellGrowth::Exponential,
             });
             let (amplitude, omega, dt) = (5e-5, 20.0, 1e-3);
             let mut s = FrictionState::default();
@@ -1275,6 +1278,46 @@ mod tests {
             body_oldest < 0.02 && body_end < 0.02,
             "{body_oldest} {body_end}"
         );
+    }
+
+    /// The two growth forms (session 103) reach the same share where they should and part
+    /// where they should: the exponential `1 - e^-1` at `tau` as before, the hyperbolic a half
+    /// at `tau` and 10/11 at `10 tau` (the exponential is grown there); both hold at zero for a
+    /// negative age and below one for any age, f32 as f64, with no NaN at a huge age or a zero
+    /// time constant.
+    #[test]
+    fn the_dwell_growth_forms_reach_their_shares() {
+        use crate::friction::DwellGrowth;
+        let mut d = dwell_at_rest_model().effects.dwell_stiction.unwrap();
+        let tau = d.time_constant;
+        assert!((d.grown_share(tau) - (1.0 - (-1.0f64).exp())).abs() < 1e-15);
+        assert!((d.grown_share(10.0 * tau) - (1.0 - (-10.0f64).exp())).abs() < 1e-15);
+        d.growth = DwellGrowth::Hyperbolic;
+        assert!((d.grown_share(tau) - 0.5).abs() < 1e-15);
+        assert!((d.grown_share(10.0 * tau) - 10.0 / 11.0).abs() < 1e-15);
+        for growth in DwellGrowth::ALL {
+            d.growth = growth;
+            assert_eq!(d.grown_share(-1.0), 0.0);
+            assert_eq!(d.grown_share(0.0), 0.0);
+            let mut f32_term = crate::friction::Effects::<f64>::none();
+            f32_term.dwell_stiction = Some(d);
+            let d32 = f32_term.cast::<f32>().dwell_stiction.unwrap();
+            for age in [1e-3, 0.3, 3.0, 1e30] {
+                let (s64, s32) = (d.grown_share(age), d32.grown_share(age as f32));
+                assert!((0.0..=1.0).contains(&s64) && (0.0..=1.0).contains(&s32));
+                assert!((s64 - s32 as f64).abs() < 1e-6, "{growth:?} {age}");
+            }
+            let mut instant = d;
+            instant.time_constant = 0.0;
+            assert_eq!(instant.grown_share(0.5), 1.0);
+        }
+        // the levels carry it: a hyperbolic term half-grown at tau
+        let mut m = dwell_at_rest_model();
+        if let Some(t) = m.effects.dwell_stiction.as_mut() {
+            t.growth = DwellGrowth::Hyperbolic;
+        }
+        let l = m.levels(0.0, &REF, tau);
+        assert!((l.static_ - (632.0 + 100.0)).abs() < 1e-9, "{}", l.static_);
     }
 
     #[test]
@@ -1489,6 +1532,7 @@ mod tests {
             renewal_distance: 1e-3,
             age_at_stick: crate::friction::DwellAge::Accumulates,
             clock: crate::friction::DwellClock::BodySpeed,
+            growth: crate::friction::DwellGrowth::Exponential,
         });
         let (mut a, mut b) = (FrictionState::default(), FrictionState::default());
         let mut longest_rest: f64 = 0.0;

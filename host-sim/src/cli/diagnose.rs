@@ -437,12 +437,13 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
             (s.effect, m.friction.effects.dwell_stiction.as_ref())
         {
             println!(
-                "   dwell term: rises by {:.3} N, time constant {:.3} s, renewal distance {:.3} mm, age rule {}, clock {}",
+                "   dwell term: rises by {:.3} N, time constant {:.3} s, renewal distance {:.3} mm, age rule {}, clock {}, growth {}",
                 t.max_increase,
                 t.time_constant,
                 t.renewal_distance * 1e3,
                 t.age_at_stick.name(),
-                t.clock.name()
+                t.clock.name(),
+                t.growth.name()
             );
         }
         for r in &s.restarts {

@@ -23,7 +23,7 @@
 use super::inverse::{AxisModel, Prepared, Simulation};
 use crate::signal::integrated_autocorrelation_time;
 use lugre_servo::friction::effects as fx;
-use lugre_servo::friction::{DwellAge, DwellClock, EffectKind, LugreParams};
+use lugre_servo::friction::{DwellAge, DwellClock, DwellGrowth, EffectKind, LugreParams};
 use nalgebra::{DMatrix, DVector};
 use std::borrow::Cow;
 
@@ -834,7 +834,7 @@ fn linearise<'p>(
             };
             let w = e
                 .dwell_stiction
-                .map_or(0.0, |dw| -(-sim.dwell[i] / dw.time_constant).exp_m1());
+                .map_or(0.0, |dw| dw.grown_share(sim.dwell[i]));
             // g = Fc (1 + d rc) (1 - e) + Fs (1 + d rs) e, Fs = Fc + hump: the Coulomb level
             // everywhere, the hump near rest, each with its direction's ratio
             let (up_c, up_s) = (1.0 + d * rc, 1.0 + d * rs);
@@ -1422,6 +1422,7 @@ pub fn add_effect(
                 renewal_distance,
                 age_at_stick: rule.age,
                 clock: rule.clock,
+                growth: rule.growth,
             })
         }
     }
@@ -1484,13 +1485,16 @@ pub fn with_shape(
 }
 
 /// A rule of the dwell term that no law fixes, so the data choose it: what a new stick does to
-/// the age, and whose speed tells a stick (with the threshold under which it does).
+/// the age, whose speed tells a stick (with the threshold under which it does), and how the
+/// increase grows with the age.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DwellRule {
     /// What a new stick does to the age.
     pub age: DwellAge,
     /// The body's speed or the contact's slip.
     pub clock: DwellClock,
+    /// The growth's form.
+    pub growth: DwellGrowth,
 }
 
 impl DwellRule {
@@ -1499,6 +1503,7 @@ impl DwellRule {
         Self {
             age: d.age_at_stick,
             clock: d.clock,
+            growth: d.growth,
         }
     }
 
@@ -1530,14 +1535,17 @@ pub const DWELL_RULES: [DwellRule; 3] = [
     DwellRule {
         age: DwellAge::Accumulates,
         clock: DwellClock::BodySpeed,
+        growth: DwellGrowth::Exponential,
     },
     DwellRule {
         age: DwellAge::Restarts,
         clock: DwellClock::BodySpeed,
+        growth: DwellGrowth::Exponential,
     },
     DwellRule {
         age: DwellAge::Restarts,
         clock: DwellClock::ContactSlip,
+        growth: DwellGrowth::Exponential,
     },
 ];
 
@@ -1550,6 +1558,7 @@ pub const DWELL_RULES: [DwellRule; 3] = [
 pub const STAGE_DWELL_RULE: DwellRule = DwellRule {
     age: DwellAge::Aging,
     clock: DwellClock::BodySpeed,
+    growth: DwellGrowth::Exponential,
 };
 
 /// The rules of `effect` the data choose between, each searched at every shape value on every
@@ -1570,6 +1579,7 @@ pub fn with_dwell_rule(m: &AxisModel, rule: DwellRule) -> AxisModel {
     if let Some(d) = out.friction.effects.dwell_stiction.as_mut() {
         d.age_at_stick = rule.age;
         d.clock = rule.clock;
+        d.growth = rule.growth;
         d.stick_velocity = rule.stick_velocity();
     }
     out
@@ -1804,6 +1814,7 @@ mod chord_tests {
             renewal_distance: 1e-3,
             age_at_stick: DwellAge::Accumulates,
             clock: DwellClock::BodySpeed,
+            growth: DwellGrowth::Exponential,
         });
         let ranked = rules(EffectKind::DwellStiction);
         assert_eq!(ranked.len(), DWELL_RULES.len());

@@ -1126,6 +1126,7 @@ mod tests {
                     renewal_distance: 1e-4,
                     age_at_stick,
                     clock,
+                    growth: lugre_servo::friction::DwellGrowth::Exponential,
                 });
                 let fixed = age_at_stick == DwellAge::Restarts && clock == DwellClock::BodySpeed;
                 models.push((dwell, fixed));

@@ -650,6 +650,7 @@ impl Candidate {
                         [
                             format!("age_at_stick = {}", r.age.name()),
                             format!("clock = {}", r.clock.name()),
+                            format!("growth = {}", r.growth.name()),
                         ]
                     }),
             )
@@ -1724,6 +1725,7 @@ mod tests {
                 renewal_distance: 1e-3,
                 age_at_stick: DwellAge::Accumulates,
                 clock: DwellClock::BodySpeed,
+                growth: lugre_servo::friction::DwellGrowth::Exponential,
             });
             model
         };
@@ -1891,6 +1893,7 @@ mod search_edge_tests {
             renewal_distance,
             age_at_stick: fx::DwellAge::Accumulates,
             clock: fx::DwellClock::BodySpeed,
+            growth: lugre_servo::friction::DwellGrowth::Exponential,
         });
         model(e)
     }

@@ -7,7 +7,7 @@
 
 use super::*;
 use fit::DwellRule;
-use lugre_servo::friction::{DwellAge, DwellClock};
+use lugre_servo::friction::{DwellAge, DwellClock, DwellGrowth};
 
 /// How many leading candidates a stage's ranking re-judges after their nonlinear parameters
 /// have moved (usize::MAX: all). Three gave the same answers on the 110 records of never-run
@@ -990,6 +990,7 @@ fn judge(
         peak_cut: 1.0 - (peak_rss / null.peak_rss).sqrt(),
         age_at_stick: rule.map(|r| r.age),
         clock: rule.map(|r| r.clock),
+        growth: rule.map(|r| r.growth),
     });
     Candidate {
         meaning: super::meaning_of(info, &fit.model).into(),
@@ -1098,6 +1099,9 @@ pub struct DwellEvidence {
     /// The clock the data chose for the term ([`fit::rules`]; serialised by its name,
     /// `body_speed` or `contact_slip`).
     pub clock: Option<DwellClock>,
+    /// The growth's form the term was fitted with (`exponential` wherever the ranking fits
+    /// it; a stage may choose `hyperbolic`).
+    pub growth: Option<DwellGrowth>,
 }
 
 /// The rest-independent twin of a `dwell_stiction` fit's model: the same term with every rest
@@ -1113,6 +1117,8 @@ fn twin_model(on: &Scope, info: &EffectInfo, fit: &Fit) -> Option<AxisModel> {
     let mut twin = fit.model;
     twin.friction.effects.dwell_stiction = Some(lugre_servo::friction::effects::DwellStiction {
         time_constant: breakaway::REST_INDEPENDENT_TAU_S,
+        // saturated at every rest: the exponential is, the hyperbolic's tail is not
+        growth: DwellGrowth::Exponential,
         ..d
     });
     Some(twin)
@@ -1189,6 +1195,9 @@ fn with_twin(
 /// third start that repeated the candidate's from nearly the same point: without it, on five
 /// never-timed offset and asymmetry records where it ran, the nested check took 2.01 s
 /// instead of 2.92 s and every output was the same; session 62, registration B3.)
+/// A dwell stage adds two starts of its own: the candidate's term under the aging law
+/// ([`aging_start`], beside the two), and, from the best of the three, the same term grown
+/// hyperbolically ([`growth_start`]).
 pub(super) fn stage_fit(
     e: EffectKind,
     candidate: &Fit,
@@ -1214,9 +1223,42 @@ pub(super) fn stage_fit(
     } else {
         from_candidate
     };
-    match aging {
+    let best = match aging {
         Some(a) if a.rss < best.rss => a,
         _ => best,
+    };
+    if e != EffectKind::DwellStiction {
+        return best;
+    }
+    // the growth's form, from the best of the three (the exponential wins ties)
+    let hyperbolic = stage_search(&growth_start(&best, on));
+    if hyperbolic.rss < best.rss {
+        hyperbolic
+    } else {
+        best
+    }
+}
+
+/// A dwell stage's last start: the best stage fit's term under its own age rule and clock,
+/// grown hyperbolically ([`DwellGrowth::Hyperbolic`]), its time constant and renewal distance
+/// searched on the effect's grids ([`grid_start`]). The form of the growth is the data's to
+/// choose once the term is named: the stage keeps whichever form fits better. The ranking
+/// searches the exponential alone, so what decides that a dwell term is significant is
+/// unchanged. (Session 103, used aging dwell records of the axes 35423..35432 and
+/// 35394..35397: with the hyperbolic form alone 10 of 14 within 1.2x their floor against 8;
+/// 35427 0.755 -> 0.609 %, 35397 0.938 -> 0.768 %; a few rose by up to 6 %, so neither form
+/// replaces the other.)
+fn growth_start(best: &Fit, on: &Scope) -> Fit {
+    match fit::dwell_rule(&best.model) {
+        Some(rule) => grid_start(
+            best,
+            fit::DwellRule {
+                growth: DwellGrowth::Hyperbolic,
+                ..rule
+            },
+            on,
+        ),
+        None => best.clone(),
     }
 }
 
@@ -1228,14 +1270,23 @@ pub(super) fn stage_fit(
 /// objective. Under the aging law the renewal distance sets the age held while sliding
 /// (`D / |v|`), so it is searched here and not left at the candidate's.
 fn aging_start(candidate: &Fit, on: &Scope) -> Fit {
+    grid_start(candidate, fit::STAGE_DWELL_RULE, on)
+}
+
+/// A dwell stage's start from `from`'s term under `rule`: its time constant and renewal
+/// distance searched on the effect's grids (`effect_grid_min`, with its parabola between grid
+/// points, at every renewal distance, then at the vertex between the best distance and its
+/// neighbours in ln: [`best_over_shapes`]), the best by the grid's objective (`from` itself
+/// where the effect has no grids).
+fn grid_start(from: &Fit, rule: fit::DwellRule, on: &Scope) -> Fit {
     let info = effect_info(EffectKind::DwellStiction);
     let (Some((_, taus, _)), Some((_, distances))) = (info.nonlinear, info.shape) else {
-        return candidate.clone();
+        return from.clone();
     };
     let n_eff = on.fitting.n_eff;
-    let aging = fit::with_dwell_rule(&candidate.model, fit::STAGE_DWELL_RULE);
+    let ruled = fit::with_dwell_rule(&from.model, rule);
     let at = |distance: f64, tau: f64| {
-        let m = fit::with_shape(&aging, info.kind, distance);
+        let m = fit::with_shape(&ruled, info.kind, distance);
         let f = on
             .fitting
             .refit_quick(&fit::add_effect(&m, info.kind, on.fitting.p, tau));
@@ -1248,7 +1299,7 @@ fn aging_start(candidate: &Fit, on: &Scope) -> Fit {
         .collect();
     let objective = |tau: f64, f: &Fit| grid_objective(info, tau, f.rss, n_eff);
     best_over_shapes(on_grid, &mut profile, search_at, objective)
-        .map_or_else(|| candidate.clone(), |(_, f, _)| f)
+        .map_or_else(|| from.clone(), |(_, f, _)| f)
 }
 
 /// A significant candidate's fit with its effect switched off again must not beat the current

@@ -521,14 +521,16 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
             });
             let value = match value {
                 Entry::Number(x) => num(x),
-                // (the only rules: the dwell's age and clock, which the candidate's search
-                // chose, or the stage's where the term was added under the aging law)
+                // (the only rules: the dwell's age, clock and growth, which the candidate's
+                // search chose, or the stage's where the term was added under the aging law or
+                // grown hyperbolically)
                 Entry::Rule(rule) => {
                     let how = match key.as_str() {
                         "age_at_stick" => {
                             "chosen by the data (accumulates or restarts; aging once added)"
                         }
                         "clock" => "chosen by the data (body_speed or contact_slip)",
+                        "growth" => "chosen by the data (exponential; hyperbolic once added)",
                         _ => "chosen by the data",
                     };
                     return vec![section, key, rule, String::new(), how.into()];
@@ -1028,6 +1030,7 @@ mod tests {
             renewal_distance: 1e-3,
             age_at_stick: DwellAge::Restarts,
             clock: lugre_servo::friction::DwellClock::ContactSlip,
+            growth: lugre_servo::friction::DwellGrowth::Exponential,
         });
         dwell.fit = Some(fit);
         let rows = candidate_rows(&[load, dwell]);
@@ -1043,7 +1046,11 @@ mod tests {
         assert!(dwell_texts[0].ends_with("(at the edge of its search range)"));
         assert_eq!(
             dwell_texts[1..],
-            ["age_at_stick = restarts", "clock = contact_slip"]
+            [
+                "age_at_stick = restarts",
+                "clock = contact_slip",
+                "growth = exponential"
+            ]
         );
     }
 }
