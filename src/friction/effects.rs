@@ -369,7 +369,7 @@ pub enum DwellGrowth {
     #[default]
     Exponential,
     /// `w = t_dwell / (t_dwell + tau)`: a tail that falls as `tau / t_dwell`, still growing
-    /// at ten times `tau` (by 9 % of `dF` from `10 tau` to `100 tau`).
+    /// at ten times `tau` (by 8 % of `dF` from `10 tau` to `100 tau`).
     Hyperbolic,
 }
 
