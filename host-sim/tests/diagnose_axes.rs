@@ -1176,6 +1176,44 @@ fn a_dwell_stage_takes_the_hyperbolic_growth_where_it_fits_better() {
     );
 }
 
+/// A stage refines the added effect's own parameter continuously (session 103,
+/// `search::refine_effect`), as it refines vs and sigma0: on the issue's axes, used aging dwell
+/// record 35458's stage kept the time-constant grid's 0.5 s and erred 0.28 %, above the
+/// record's floor of 0.25 %; refined, its time constant is 0.37 s and it errs 0.24 %
+/// (`host-sim diagnose --data dwell_stiction.csv --add dwell_stiction` on `axis_suite --write
+/// DIR --seed 35458 --axes issue`). Fails if the time constant stays on a grid point or the
+/// stage errs more than the floor.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn a_dwell_stage_refines_its_time_constant_between_grid_points() {
+    let seed = 35458;
+    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::Aging);
+    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+    let opts = Options {
+        add: vec!["dwell_stiction".into()],
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let p = Prepared::new(&rec, "axis.csv", Protocol::default()).unwrap();
+    let floor = truth_error_pct(&axis, &p);
+    let stage = d.last_stage();
+    let tau = (stage.fit.model.friction.effects.dwell_stiction)
+        .unwrap()
+        .time_constant;
+    let info = diagnose::effect_info(EffectKind::DwellStiction);
+    let (_, grid, _) = info.nonlinear.unwrap();
+    assert!(
+        grid.iter().all(|g| (tau / g - 1.0).abs() > 1e-3),
+        "time constant {tau} s on the grid {grid:?}"
+    );
+    let added = stage.fit.rel_err_pct;
+    assert!(
+        added <= floor,
+        "{added:.3} % against the floor {floor:.3} %"
+    );
+}
+
 /// Diagnoses the issue's axes' dwell record `seed`: the dwell term is named first, with the
 /// age rule `rule` on the clock `clock`, and errs at most `floor_factor` times the record's
 /// floor.
