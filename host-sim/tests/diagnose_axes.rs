@@ -1094,22 +1094,13 @@ fn a_dwell_clock_on_the_contacts_slip_is_chosen_where_the_record_shows_it() {
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_dwell_stage_takes_the_aging_rule_where_the_contact_ages_by_it() {
     let seed = 35290;
-    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::Aging);
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        add: vec!["dwell_stiction".into()],
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let (d, floor) = aging_dwell_stage(seed);
     assert_eq!(
         first_significant(&d.stages[0].candidates),
         Some("dwell_stiction"),
         "{}",
         report(&d)
     );
-    let p = Prepared::new(&rec, "axis.csv", Protocol::default()).unwrap();
-    let floor = truth_error_pct(&axis, &p);
     let ranked = dwell_candidate(&d.stages[0]);
     let ranked_age = ranked.dwell.as_ref().and_then(|e| e.age_at_stick);
     assert!(
@@ -1147,14 +1138,7 @@ fn a_dwell_stage_takes_the_aging_rule_where_the_contact_ages_by_it() {
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_dwell_stage_takes_the_hyperbolic_growth_where_it_fits_better() {
     let seed = 35427;
-    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::Aging);
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        add: vec!["dwell_stiction".into()],
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let (d, floor) = aging_dwell_stage(seed);
     assert_eq!(
         first_significant(&d.stages[0].candidates),
         Some("dwell_stiction"),
@@ -1164,8 +1148,6 @@ fn a_dwell_stage_takes_the_hyperbolic_growth_where_it_fits_better() {
     let ranked = dwell_candidate(&d.stages[0]);
     let ranked_growth = ranked.dwell.as_ref().and_then(|e| e.growth);
     assert_eq!(ranked_growth, Some(DwellGrowth::Exponential));
-    let p = Prepared::new(&rec, "axis.csv", Protocol::default()).unwrap();
-    let floor = truth_error_pct(&axis, &p);
     let stage = d.last_stage();
     let term = stage.fit.model.friction.effects.dwell_stiction.unwrap();
     assert_eq!(term.growth, DwellGrowth::Hyperbolic, "{term:?}");
@@ -1187,16 +1169,7 @@ fn a_dwell_stage_takes_the_hyperbolic_growth_where_it_fits_better() {
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_dwell_stage_refines_its_time_constant_between_grid_points() {
     let seed = 35458;
-    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::Aging);
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        add: vec!["dwell_stiction".into()],
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
-    let p = Prepared::new(&rec, "axis.csv", Protocol::default()).unwrap();
-    let floor = truth_error_pct(&axis, &p);
+    let (d, floor) = aging_dwell_stage(seed);
     let stage = d.last_stage();
     let tau = (stage.fit.model.friction.effects.dwell_stiction)
         .unwrap()
@@ -1212,6 +1185,21 @@ fn a_dwell_stage_refines_its_time_constant_between_grid_points() {
         added <= floor,
         "{added:.3} % against the floor {floor:.3} %"
     );
+}
+
+/// The issue's axes' aging dwell record `seed` diagnosed with `dwell_stiction` added as a
+/// stage (the final ranking skipped), and the record's floor \[%\].
+fn aging_dwell_stage(seed: u64) -> (diagnose::Diagnosis, f64) {
+    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::Aging);
+    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+    let opts = Options {
+        add: vec!["dwell_stiction".into()],
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let p = Prepared::new(&rec, "axis.csv", Protocol::default()).unwrap();
+    (d, truth_error_pct(&axis, &p))
 }
 
 /// Diagnoses the issue's axes' dwell record `seed`: the dwell term is named first, with the
