@@ -489,7 +489,7 @@ pub fn polish(current: &Fit, effect: Option<EffectKind>, on: Fitting<'_>, search
 /// ([`refine_effect`]): the positive, continuous ones (the dwell's time constant, the Stribeck
 /// and viscous exponents). A position or load dependence's order is a count; a temperature
 /// dependence's viscosity coefficient crosses zero, so it has no ln to refine in.
-pub const CONTINUOUSLY_REFINED: [EffectKind; 3] = [
+const CONTINUOUSLY_REFINED: [EffectKind; 3] = [
     EffectKind::DwellStiction,
     EffectKind::StribeckShape,
     EffectKind::ViscousPower,
