@@ -1218,29 +1218,6 @@ fn the_ranking_searches_the_aging_rule_where_the_model_leaves_more_than_the_read
     assert!(err < 0.2, "{seed}: {err:.3} %");
 }
 
-/// Where the ranking chose an aging dwell rule, a dwell stage also runs from the candidate the
-/// first three rules gave (session 104, `ranking::stage_fit`, `Candidate::rule_start`) and
-/// keeps the lower residual: on the issue's axes, used aging dwell record 35523 (its baseline
-/// leaves 9x what the measurement accounts for) is named under the aging rule; the stage from
-/// that candidate alone erred 0.27 %, the stage from the first three rules' candidate 0.25 %
-/// (`host-sim diagnose --data dwell_stiction.csv --add dwell_stiction` on `axis_suite --write
-/// DIR --seed 35523 --axes issue`, builds c4a6725 and 4079f0a). Fails if the stage loses the
-/// other rules' start, or if the ranking does not choose the aging rule there.
-#[test]
-#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
-fn a_dwell_stage_keeps_what_the_other_rules_candidate_reaches() {
-    let seed = 35523;
-    let (d, floor) = aging_dwell_stage(seed);
-    let ranked = dwell_candidate(&d.stages[0]);
-    let age = ranked.dwell.as_ref().and_then(|e| e.age_at_stick);
-    assert_eq!(age, Some(DwellAge::Aging), "{seed}");
-    let added = d.last_stage().fit.rel_err_pct;
-    assert!(
-        added < 0.26 && added <= 1.2 * floor,
-        "{seed}: {added:.3} % against the floor {floor:.3} %"
-    );
-}
-
 /// The issue's axes' aging dwell record `seed` diagnosed with `dwell_stiction` added as a
 /// stage (the final ranking skipped), and the record's floor \[%\]; the ranking must have
 /// named dwell stiction first.
