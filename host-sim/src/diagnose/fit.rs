@@ -1533,7 +1533,7 @@ impl DwellRule {
 /// the measurement accounts for; test `a_saturated_dwell_level_within_the_measurement_is_held`):
 /// an aging age held at `D / |v|` while sliding makes the term a function of the sliding speed
 /// too, able to take up what the reading leaves. Session 104 (used records, searched
-/// everywhere): the four effect-free records of 80 it named left 0.23..0.82x, the three
+/// everywhere): the four effect-free records of 70 it named left 0.23..0.82x, the three
 /// aging dwell records of 60 the first three rules missed left 1.18..3.58x.
 pub const DWELL_RULES: [DwellRule; 5] = [
     DwellRule {

@@ -454,12 +454,6 @@ pub struct Candidate {
     /// ([`verdict_samples`]).
     #[serde(skip)]
     model_start: Option<Fit>,
-    /// For `dwell_stiction`, where the ranking searched the aging rules and chose one of them
-    /// ([`fit::rules`]): its best fit under the other rules (what it chose before session 104),
-    /// kept as a dwell stage's start, with the aging start searched from it as before
-    /// (`ranking::stage_fit`).
-    #[serde(skip)]
-    rule_start: Option<Fit>,
     /// Searched again ([`polish`] with [`Search::CLOSE_CALL`]) and judged on that fit: a
     /// close call in the stage's final ranking, its error within
     /// [`CLOSE_CALL`] of the first significant candidate's, or that first candidate itself
@@ -690,7 +684,6 @@ impl Candidate {
             from_static_table: false,
             from_nested_check: None,
             model_start: None,
-            rule_start: None,
             settled_close_call: false,
             unchallenged_close_call: false,
             kept_over_larger: None,
@@ -1461,13 +1454,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
                 (Some(_), _) => fit.clone(),
                 // the ranking's parsimony check already fitted it as a stage
                 (None, Some(staged)) => staged.clone(),
-                (None, None) => stage_fit(
-                    e,
-                    fit,
-                    candidate.model_start.as_ref(),
-                    candidate.rule_start.as_ref(),
-                    &on,
-                ),
+                (None, None) => stage_fit(e, fit, candidate.model_start.as_ref(), &on),
             }
         });
         let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);

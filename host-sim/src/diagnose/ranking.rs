@@ -187,7 +187,7 @@ fn prefer_nested(out: &mut [Candidate], on: &Scope, current: &Fit) {
         {
             continue;
         }
-        let with_nested = stage_fit(nested, simpler, model_start, None, on);
+        let with_nested = stage_fit(nested, simpler, model_start, on);
         let on_top = rank_one(larger, on, &with_nested);
         let check = NestedCheck::new(larger, nested, &with_nested, on_top.as_ref());
         out[j].nested_check = Some(check);
@@ -242,7 +242,7 @@ fn larger_on_top(
     // 20137 ended at 0.52 % where the stage ends at 0.31 % (the truth 0.36 %), and asymmetry
     // on top cut the difference, a third of the error; the candidate's start alone (one round
     // or two) read calibration offset records as asymmetry (5 of 30, 1 of 30)
-    let with_nested = stage_fit(nested, simpler, model_start, None, on);
+    let with_nested = stage_fit(nested, simpler, model_start, on);
     let on_top = rank_one(larger, on, &with_nested);
     let check = NestedCheck::new(larger, nested, &with_nested, on_top.as_ref());
     // a larger candidate significant already is the answer once the simpler one steps aside:
@@ -291,7 +291,7 @@ fn hand_over(
     };
     let mut start = top.model;
     start.friction.effects = start.friction.effects.without(nested);
-    let handed = stage_fit(candidate.kind, &on.refit(&start), None, None, on);
+    let handed = stage_fit(candidate.kind, &on.refit(&start), None, on);
     if handed.rss >= own.rss {
         return false;
     }
@@ -445,32 +445,15 @@ fn polish_again(
     reference: &Current,
     n_judge: f64,
 ) {
-    // (a dwell candidate's fit under the rules it was not chosen by is searched beside it, as
-    // it was searched where it was the candidate: `Candidate::rule_start`)
-    let polished: Vec<(usize, Fit, Option<Fit>)> = which
+    let polished: Vec<(usize, Fit)> = which
         .par_iter()
         .filter_map(|&i| {
             let f = out[i].fit.as_ref()?;
             let kind = out[i].kind;
-            let (f, r) = rayon::join(
-                || on.polish(f, Some(kind), search),
-                || {
-                    let r = out[i].rule_start.as_ref()?;
-                    let polished = on.polish(r, Some(kind), search);
-                    Some(if polished.rss < r.rss {
-                        polished
-                    } else {
-                        r.clone()
-                    })
-                },
-            );
-            Some((i, f, r))
+            Some((i, on.polish(f, Some(kind), search)))
         })
         .collect();
-    for (i, f, rule_start) in polished {
-        if rule_start.is_some() {
-            out[i].rule_start = rule_start;
-        }
+    for (i, f) in polished {
         let c = &out[i];
         if c.fit.as_ref().is_some_and(|g| f.rss < g.rss) {
             let info = effect_info(c.kind);
@@ -481,7 +464,6 @@ fn polish_again(
                 fitted_before_restart: c.fitted_before_restart,
                 from_static_table: c.from_static_table,
                 model_start: c.model_start.clone(),
-                rule_start: c.rule_start.clone(),
                 // the nested check judged the larger effect on top of this one as a stage,
                 // not on this fit: its verdict stands while this stays an answer
                 kept_over_larger: c.kept_over_larger.filter(|_| judged.significant),
@@ -571,7 +553,6 @@ fn judge_all(out: Vec<Candidate>, on: &Scope, reference: &Current) -> Vec<Candid
                 fitted_before_restart: c.fitted_before_restart,
                 from_static_table: c.from_static_table,
                 model_start: c.model_start.clone(),
-                rule_start: c.rule_start.clone(),
                 ..judge(
                     on.brk,
                     reference,
@@ -635,7 +616,6 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
     if cand.skipped.is_some() {
         return cand;
     }
-    let mut rule_start: Option<Fit> = None;
     let (fit, nonlinear_ci) = match info.nonlinear {
         Some((name, grid, null)) => {
             // the nonlinear parameter's grid, at each value of the second shape parameter,
@@ -696,17 +676,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                 Some((_, s, ..)) if shape_first => vec![*s],
                 _ => shapes.clone(),
             };
-            // where the aging rules were searched and one was chosen, the best of the others
-            // too: searched whole below as a dwell stage's start (`Candidate::rule_start`)
-            let other_rule: Option<DwellRule> = rule
-                .filter(|r| r.age == DwellAge::Aging)
-                .and_then(|_| {
-                    (coarse.iter())
-                        .filter(|(r, ..)| r.is_some_and(|r| r.age != DwellAge::Aging))
-                        .min_by(|a, b| (a.3).0.total_cmp(&(b.3).0))
-                })
-                .and_then(|(r, ..)| *r);
-            let search_at = |rule: Option<DwellRule>, shape: Option<f64>| {
+            let search_at = |shape: Option<f64>| {
                 effect_grid_min(info, grid, |x| {
                     let same =
                         |v: Option<f64>, w: Option<f64>| v.map(f64::to_bits) == w.map(f64::to_bits);
@@ -725,47 +695,35 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             // search keeps them, so the best fit and the profile are the same bit for bit
             // (the identity set's suite JSON unchanged; `diagnose_timing 1097 1098` paired
             // ratio 0.978, session 68: within the machine's noise).
-            // the rule's whole search: its grid at every shape value searched, then the vertex
-            // between shape values; the best, and the profile over the shape values
-            let whole_search = |rule: Option<DwellRule>| {
-                let on_grid: Vec<fit::GridResult<Fit>> = (searched_shapes.par_iter())
-                    .map(|&s| search_at(rule, s))
-                    .collect();
-                // the profile over the second shape parameter, and between its grid's points
-                // the parabola through the best one and its neighbours in ln, searched once
-                // more there (the renewal distance on its decade grid left calibration dwell
-                // record 1701 at 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit`
-                // with RENEWAL_FINE, session 35)
-                // (a shape value not searched whole enters at its first pass's best: the
-                // quick fits' residuals, as the whole searches')
-                let mut shape_profile: ShapeProfile = (shapes.iter().flatten())
-                    .map(|&v| {
-                        let whole = (searched_shapes.iter().zip(&on_grid))
-                            .find(|(s, _)| **s == Some(v))
-                            .map(|(_, (_, f, _))| f.rss);
-                        let first_pass = || {
-                            (coarse.iter())
-                                .filter(|(_, s, ..)| *s == Some(v))
-                                .map(|(.., (_, f))| f.rss)
-                                .fold(f64::INFINITY, f64::min)
-                        };
-                        (v, whole.unwrap_or_else(first_pass))
-                    })
-                    .collect();
-                let best = best_over_shapes(
-                    on_grid,
-                    &mut shape_profile,
-                    |v| search_at(rule, Some(v)),
-                    objective,
-                );
-                (best, shape_profile)
-            };
-            let ((best, shape_profile), other) = rayon::join(
-                || whole_search(rule),
-                || other_rule.and_then(|r| whole_search(Some(r)).0),
-            );
-            rule_start = other.map(|(_, f, _)| on.refit(&f.model));
-            let Some((x, f, profile)) = best else {
+            let on_grid: Vec<fit::GridResult<Fit>> =
+                searched_shapes.par_iter().map(|&s| search_at(s)).collect();
+            // the profile over the second shape parameter, and between its grid's points the
+            // parabola through the best one and its neighbours in ln, searched once more there
+            // (the renewal distance on its decade grid left calibration dwell record 1701 at
+            // 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE,
+            // session 35)
+            // (a shape value not searched whole enters at its first pass's best: the quick
+            // fits' residuals, as the whole searches')
+            let mut shape_profile: ShapeProfile = (shapes.iter().flatten())
+                .map(|&v| {
+                    let whole = (searched_shapes.iter().zip(&on_grid))
+                        .find(|(s, _)| **s == Some(v))
+                        .map(|(_, (_, f, _))| f.rss);
+                    let first_pass = || {
+                        (coarse.iter())
+                            .filter(|(_, s, ..)| *s == Some(v))
+                            .map(|(.., (_, f))| f.rss)
+                            .fold(f64::INFINITY, f64::min)
+                    };
+                    (v, whole.unwrap_or_else(first_pass))
+                })
+                .collect();
+            let Some((x, f, profile)) = best_over_shapes(
+                on_grid,
+                &mut shape_profile,
+                |v| search_at(Some(v)),
+                objective,
+            ) else {
                 unreachable!("at least one shape value is searched")
             };
             let f = on.refit(&f.model);
@@ -801,19 +759,16 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
         ),
     };
     let (fit, rest_null) = with_twin(on, info, current, fit);
-    Candidate {
-        rule_start,
-        ..judge(
-            brk,
-            current,
-            info,
-            fit,
-            cand.parameters.clone(),
-            nonlinear_ci,
-            rest_null,
-            n_eff,
-        )
-    }
+    judge(
+        brk,
+        current,
+        info,
+        fit,
+        cand.parameters.clone(),
+        nonlinear_ci,
+        rest_null,
+        n_eff,
+    )
 }
 
 /// The smallest relative cut of the model's error for which a candidate effect is reported as
@@ -1250,37 +1205,13 @@ fn with_twin(
 /// instead of 2.92 s and every output was the same; session 62, registration B3.)
 /// A dwell stage adds two starts of its own: the candidate's term under the aging law
 /// ([`aging_start`], beside the two), and, from the best of the three, the same term grown
-/// hyperbolically ([`growth_start`]). Where the ranking chose an aging rule, `rule_start` is
-/// its best fit under the others ([`Candidate::rule_start`], what the ranking chose before
-/// session 104): the stage from it is run as well, and the lower residual kept, so the stage
-/// reaches at least what it reached before the ranking searched the aging rules. (Session 104,
-/// never-run dwell record 35523: the stage from the aging candidate alone erred 0.27 % where
-/// the stage from the others' fit had reached 0.25 %; stage fits from different starts land
-/// a few percent apart.)
+/// hyperbolically ([`growth_start`]).
 pub(super) fn stage_fit(
     e: EffectKind,
     candidate: &Fit,
     model_start: Option<&Fit>,
-    rule_start: Option<&Fit>,
     on: &Scope,
 ) -> Fit {
-    let Some(before) = rule_start else {
-        return stage_from(e, candidate, model_start, on);
-    };
-    let (now, before) = rayon::join(
-        || stage_from(e, candidate, model_start, on),
-        || stage_from(e, before, model_start, on),
-    );
-    // the candidate's stage wins ties
-    if before.rss < now.rss {
-        before
-    } else {
-        now
-    }
-}
-
-/// [`stage_fit`] from one candidate fit: its starts searched side by side, the best kept.
-fn stage_from(e: EffectKind, candidate: &Fit, model_start: Option<&Fit>, on: &Scope) -> Fit {
     let stage_search = |f: &Fit| on.polish(f, Some(e), Search::STAGE);
     let ((from_candidate, second), aging) = rayon::join(
         || {
