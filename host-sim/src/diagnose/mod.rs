@@ -887,13 +887,6 @@ impl Unexplained {
     pub fn beyond_measurement(&self) -> bool {
         self.ratio() > UNEXPLAINED_RATIO
     }
-
-    /// The residual exceeds what the measurement accounts for at all (a ratio above 1, without
-    /// the margin of [`Self::beyond_measurement`]): where the ranking also searches the dwell
-    /// term's aging rules (`fit::rules`).
-    pub fn exceeds_measurement(&self) -> bool {
-        self.ratio() > 1.0
-    }
 }
 
 impl Serialize for Unexplained {

@@ -33,20 +33,16 @@ struct Current<'a> {
     weight_sum: f64,
     /// It leaves more than the measurement accounts for ([`Unexplained::beyond_measurement`]).
     beyond_measurement: bool,
-    /// It leaves more than the measurement accounts for, without that verdict's margin
-    /// ([`Unexplained::exceeds_measurement`]).
-    exceeds_measurement: bool,
 }
 
 impl<'a> Current<'a> {
     fn new(fit: &'a Fit, on: &Scope) -> Self {
-        let left = unexplained(on.fitting.p, on.motion_spread_pct, &fit.prediction);
         Self {
             fit,
             peak_rss: on.brk.peak_rss(&fit.prediction),
             weight_sum: on.fitting.p.scored_weight().max(1.0),
-            beyond_measurement: left.beyond_measurement(),
-            exceeds_measurement: left.exceeds_measurement(),
+            beyond_measurement: unexplained(on.fitting.p, on.motion_spread_pct, &fit.prediction)
+                .beyond_measurement(),
         }
     }
 }
@@ -644,9 +640,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             // has the same first pass over its shape values, and only the chosen one is
             // searched whole: its tail's share is fitted at every point, so searching every
             // scale whole cost a diagnosis 0.3 s (session 99, `diagnose_timing 1151`).
-            // (the aging rules only where the model leaves more than the measurement accounts
-            // for: elsewhere they take up what the reading leaves, `fit::DWELL_RULES`)
-            let rules = fit::rules(info.kind, current.exceeds_measurement);
+            let rules = fit::rules(info.kind);
             let shape_first = rules.is_empty() && shapes.len() > 1;
             let coarse: Vec<RulePoint> = if rules.len() > 1 || shape_first {
                 let rule_set: Vec<Option<DwellRule>> = if rules.is_empty() {
@@ -1100,15 +1094,13 @@ pub struct DwellEvidence {
     /// where the dwell term acts, whatever the rest of the record leaves.
     pub peak_cut: f64,
     /// The age rule the data chose for the term ([`fit::rules`]; serialised by its name,
-    /// `accumulates`, `restarts`, or `aging` where the model leaves more than the measurement
-    /// accounts for).
+    /// `accumulates` or `restarts`).
     pub age_at_stick: Option<DwellAge>,
     /// The clock the data chose for the term ([`fit::rules`]; serialised by its name,
     /// `body_speed` or `contact_slip`).
     pub clock: Option<DwellClock>,
-    /// The growth's form the term was fitted with (`exponential`, or `hyperbolic` under the
-    /// aging rule, which the ranking searches only where the model leaves more than the
-    /// measurement accounts for; a stage may choose `hyperbolic` under any rule).
+    /// The growth's form the term was fitted with (`exponential` wherever the ranking fits
+    /// it; a stage may choose `hyperbolic`).
     pub growth: Option<DwellGrowth>,
 }
 
@@ -1250,9 +1242,9 @@ pub(super) fn stage_fit(
 /// A dwell stage's last start: the best stage fit's term under its own age rule and clock,
 /// grown hyperbolically ([`DwellGrowth::Hyperbolic`]), its time constant and renewal distance
 /// searched on the effect's grids ([`grid_start`]). The form of the growth is the data's to
-/// choose once the term is named: the stage keeps whichever form fits better. (The ranking
-/// searches the hyperbolic form only under the aging rule, and only where the model leaves
-/// more than the measurement accounts for, [`fit::rules`].) (Session 103, used aging dwell records of the axes 35423..35432 and
+/// choose once the term is named: the stage keeps whichever form fits better. The ranking
+/// searches the exponential alone, so what decides that a dwell term is significant is
+/// unchanged. (Session 103, used aging dwell records of the axes 35423..35432 and
 /// 35394..35397: with the hyperbolic form alone 10 of 14 within 1.2x their floor against 8;
 /// 35427 0.755 -> 0.609 %, 35397 0.938 -> 0.768 %; a few rose by up to 6 %, so neither form
 /// replaces the other.)
@@ -1270,9 +1262,8 @@ fn growth_start(best: &Fit, on: &Scope) -> Fit {
     }
 }
 
-/// A dwell stage's third start: the candidate's term under the aging rule
-/// ([`fit::STAGE_DWELL_RULE`], which the ranking searches only where the model leaves more than
-/// the measurement accounts for), its time constant and renewal distance searched on the
+/// A dwell stage's third start: the candidate's term under the stage-only aging rule
+/// ([`fit::STAGE_DWELL_RULE`]), its time constant and renewal distance searched on the
 /// effect's grids as the ranking searches its rules (`effect_grid_min`, with its parabola
 /// between grid points, at every renewal distance, then at the vertex between the best
 /// distance and its neighbours in ln: [`best_over_shapes`]), the best by the grid's
