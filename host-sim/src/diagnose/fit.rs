@@ -1530,7 +1530,13 @@ impl DwellRule {
 /// 20 against 3, but named dwell stiction on effect-free record 138 (wide axes, baseline at
 /// 0.70x its floor; test `a_saturated_dwell_level_within_the_measurement_is_held`), where the
 /// three rules hold it. It is searched where the term is added as a stage instead
-/// ([`STAGE_DWELL_RULE`]).
+/// ([`STAGE_DWELL_RULE`]). Session 104 searched it in the ranking only where the model leaves
+/// more than the measurement accounts for (`docs/registrations/s104/prereg.txt`): on never-run
+/// sets 54 -> 56 of 60 dwell records named and no effect-free record gained an effect, but
+/// Stribeck record 34843 was read as dwell stiction. While sliding the aging age holds
+/// `D / |v|`, so the term is a velocity-weakening curve too, and its rest-independent twin
+/// (`ranking::twin_model`, a time constant of a few milliseconds) keeps part of that curve; not
+/// adopted.
 pub const DWELL_RULES: [DwellRule; 3] = [
     DwellRule {
         age: DwellAge::Accumulates,
