@@ -1179,10 +1179,17 @@ fn a_dwell_stage_refines_its_time_constant_between_grid_points() {
 /// stage (the final ranking skipped), and the record's floor \[%\]; the ranking must have
 /// named dwell stiction first.
 fn aging_dwell_stage(seed: u64) -> (diagnose::Diagnosis, f64) {
-    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::Aging);
+    dwell_named_first(seed, DwellLaw::Aging, vec!["dwell_stiction".into()])
+}
+
+/// The issue's axes' dwell record `seed` under the generator's `law`, diagnosed with the
+/// effects `add` added as stages (the final ranking skipped), and the record's floor \[%\];
+/// the ranking must have named dwell stiction first.
+fn dwell_named_first(seed: u64, law: DwellLaw, add: Vec<String>) -> (diagnose::Diagnosis, f64) {
+    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, law);
     let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
     let opts = Options {
-        add: vec!["dwell_stiction".into()],
+        add,
         skip_final_ranking: true,
         ..Default::default()
     };
@@ -1201,20 +1208,8 @@ fn aging_dwell_stage(seed: u64) -> (diagnose::Diagnosis, f64) {
 /// age rule `rule` on the clock `clock`, and errs at most `floor_factor` times the record's
 /// floor.
 fn dwell_rule_is_chosen(seed: u64, rule: DwellAge, clock: DwellClock, floor_factor: f64) {
-    let (text, axis) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::RestartAtStick);
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let (d, floor) = dwell_named_first(seed, DwellLaw::RestartAtStick, Vec::new());
     let first = &d.stages[0].candidates[0];
-    assert_eq!(
-        first_significant(&d.stages[0].candidates),
-        Some("dwell_stiction"),
-        "{seed}: {}",
-        report(&d)
-    );
     let evidence = first.dwell.expect("the dwell candidate weighs its growth");
     assert_eq!(evidence.age_at_stick, Some(rule), "{seed}");
     assert_eq!(evidence.clock, Some(clock), "{seed}");
@@ -1227,8 +1222,6 @@ fn dwell_rule_is_chosen(seed: u64, rule: DwellAge, clock: DwellClock, floor_fact
             .map(|t| (t.age_at_stick, t.clock)),
         Some((rule, clock))
     );
-    let p = Prepared::new(&rec, "axis.csv", Protocol::default()).unwrap();
-    let floor = truth_error_pct(&axis, &p);
     let added = first.rel_err_pct.unwrap();
     assert!(
         added <= floor_factor * floor,

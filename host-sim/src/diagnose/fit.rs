@@ -1535,8 +1535,8 @@ impl DwellRule {
 /// sets 54 -> 56 of 60 dwell records named and no effect-free record gained an effect, but
 /// Stribeck record 34843 was read as dwell stiction. While sliding the aging age holds
 /// `D / |v|`, so the term is a velocity-weakening curve too, and its rest-independent twin
-/// (`ranking::twin_model`, a time constant of a few milliseconds) keeps part of that curve; not
-/// adopted.
+/// (`ranking::twin_model`, at [`super::breakaway::REST_INDEPENDENT_TAU_S`]) keeps part of that
+/// curve; not adopted.
 pub const DWELL_RULES: [DwellRule; 3] = [
     DwellRule {
         age: DwellAge::Accumulates,
