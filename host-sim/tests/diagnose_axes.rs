@@ -1084,17 +1084,25 @@ fn a_dwell_clock_on_the_contacts_slip_is_chosen_where_the_record_shows_it() {
 
 /// The aging rule where a dwell term is added as a stage (session 101, `STAGE_DWELL_RULE`): a
 /// contact whose junctions age by rate-and-state friction's aging law (the generator's
-/// `DwellLaw::Aging`) keeps an age `D / v` through a slow slide, which the ranking's three rules
-/// cannot follow; the ranking never tries it (as its fourth rule it named dwell on effect-free
-/// record 138, session 100). On the issue's axes, used aging dwell record 35290 is named by the
-/// ranking's rules at 2.0x its floor of 0.54 %; the stage reaches 0.47 % under the aging law
-/// (`axis_suite 0 0 --axes issue --dwell-law aging --seeds dwell_stiction:35290`). Fails if the
-/// ranking tries the aging rule, if the stage does not, or if the rule does not reach the model.
+/// `DwellLaw::Aging`) keeps an age `D / v` through a slow slide, which the first three rules
+/// cannot follow. The ranking searches the aging rules only where the model leaves more than
+/// the measurement accounts for (session 104; as a rule searched everywhere it named dwell on
+/// effect-free record 138, session 100); the stage searches them whatever the model leaves. On
+/// the issue's axes, used aging dwell record 35462's baseline leaves 0.7x what the measurement
+/// accounts for; the ranking names dwell stiction under an accumulating age at 0.84 %, and the
+/// stage reaches 0.55 % under the aging law, within 1.2x the record's floor of 0.74 % (`host-sim diagnose --data
+/// dwell_stiction.csv --add dwell_stiction` on `axis_suite --write DIR --seed 35462 --axes
+/// issue`). (Until session 104 this test ran on 35290, whose baseline leaves 5.1x: the ranking
+/// takes the aging rule there now.) Fails if the ranking tries the aging rule where the model
+/// leaves no more than the measurement accounts for, if the stage does not, or if the rule does
+/// not reach the model.
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_dwell_stage_takes_the_aging_rule_where_the_contact_ages_by_it() {
-    let seed = 35290;
+    let seed = 35462;
     let (d, floor) = aging_dwell_stage(seed);
+    let left = d.unexplained(&d.stages[0]);
+    assert!(!left.exceeds_measurement(), "ratio {:.2}", left.ratio());
     let ranked = dwell_candidate(&d.stages[0]);
     let ranked_age = ranked.dwell.as_ref().and_then(|e| e.age_at_stick);
     assert!(
@@ -1102,10 +1110,6 @@ fn a_dwell_stage_takes_the_aging_rule_where_the_contact_ages_by_it() {
         "{ranked_age:?}"
     );
     let ranked_err = ranked.rel_err_pct.unwrap();
-    assert!(
-        ranked_err > 1.2 * floor,
-        "{ranked_err:.2} % against {floor:.2} %"
-    );
     let stage = d.last_stage();
     let term = stage.fit.model.friction.effects.dwell_stiction.unwrap();
     assert_eq!(
@@ -1114,8 +1118,8 @@ fn a_dwell_stage_takes_the_aging_rule_where_the_contact_ages_by_it() {
     );
     let added = stage.fit.rel_err_pct;
     assert!(
-        added <= 1.2 * floor,
-        "{added:.2} % against the floor {floor:.2} %"
+        added <= 0.8 * ranked_err && added <= 1.2 * floor,
+        "{added:.2} % against the ranked {ranked_err:.2} % and the floor {floor:.2} %"
     );
 }
 
@@ -1172,6 +1176,122 @@ fn a_dwell_stage_refines_its_time_constant_between_grid_points() {
     assert!(
         added <= floor,
         "{added:.3} % against the floor {floor:.3} %"
+    );
+}
+
+/// The ranking searches the aging rules where the model leaves more than the measurement
+/// accounts for (session 104, `fit::rules`): on the issue's axes, used aging dwell record
+/// 35474's baseline leaves 1.45x what the measurement accounts for, above 1 and under the
+/// margin of `UNEXPLAINED_RATIO` (1.5). Under the first three rules the dwell candidate erred
+/// 0.24 % (dBIC 1293) and asymmetry was named first (0.22 %, dBIC 1450); under the aging rule
+/// the dwell candidate errs 0.16 % and is named first (`axis_suite 0 0 --axes issue --seeds
+/// dwell_stiction:35474..35474`). Fails if the ranking leaves the aging rules out there (or
+/// keeps them only beyond the margin), or if dwell stiction is not named first.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn the_ranking_searches_the_aging_rule_where_the_model_leaves_more_than_the_reading() {
+    let seed = 35474;
+    let (text, _) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::Aging);
+    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+    let opts = Options {
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let stage = &d.stages[0];
+    let left = d.unexplained(stage);
+    assert!(
+        left.exceeds_measurement() && !left.beyond_measurement(),
+        "{seed}: ratio {:.2}",
+        left.ratio()
+    );
+    assert_eq!(
+        first_significant(&stage.candidates),
+        Some("dwell_stiction"),
+        "{seed}: {}",
+        report(&d)
+    );
+    let ranked = dwell_candidate(stage);
+    let age = ranked.dwell.as_ref().and_then(|e| e.age_at_stick);
+    assert_eq!(age, Some(DwellAge::Aging), "{seed}");
+    let err = ranked.rel_err_pct.unwrap();
+    assert!(err < 0.2, "{seed}: {err:.3} %");
+}
+
+/// Where the ranking chose an aging dwell rule, a dwell stage also runs from the candidate the
+/// first three rules gave (session 104, `ranking::stage_fit`, `Candidate::rule_start`) and
+/// keeps the lower residual: on the issue's axes, used aging dwell record 35523 (its baseline
+/// leaves 9x what the measurement accounts for) is named under the aging rule; the stage from
+/// that candidate alone erred 0.27 %, the stage from the first three rules' candidate 0.25 %
+/// (`host-sim diagnose --data dwell_stiction.csv --add dwell_stiction` on `axis_suite --write
+/// DIR --seed 35523 --axes issue`, builds c4a6725 and 4079f0a). Fails if the stage loses the
+/// other rules' start, or if the ranking does not choose the aging rule there.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn a_dwell_stage_keeps_what_the_other_rules_candidate_reaches() {
+    let seed = 35523;
+    let (d, floor) = aging_dwell_stage(seed);
+    let ranked = dwell_candidate(&d.stages[0]);
+    let age = ranked.dwell.as_ref().and_then(|e| e.age_at_stick);
+    assert_eq!(age, Some(DwellAge::Aging), "{seed}");
+    let added = d.last_stage().fit.rel_err_pct;
+    assert!(
+        added < 0.26 && added <= 1.2 * floor,
+        "{seed}: {added:.3} % against the floor {floor:.3} %"
+    );
+}
+
+/// An aging dwell term counts only where its growth with the rest time is shown (session 105,
+/// `ranking::score` and `ranking::judge`): while sliding its age holds `D / |v|`, so a level
+/// whose growth is not shown is a velocity-weakening curve. On the issue's axes, Stribeck record
+/// 34843 (never run before session 104) leaves 1.85x what the measurement accounts for; with
+/// the aging rules in the ranking as session 104 searched them, the dwell candidate took the
+/// aging rule, its growth with the rest not shown (evidence 0), and was named first (dBIC 1433
+/// against the Stribeck shape's 1376; `axis_suite 0 0 --axes issue --seeds
+/// stribeck_shape:34843..34843`). Fails if the aging term is judged as a saturated level, or
+/// if the candidate keeps an aging term whose growth is not shown and is named first.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn an_aging_dwell_level_whose_growth_is_not_shown_is_not_named() {
+    let seed = 34843;
+    let (text, _) = random_record_of(
+        Some("stribeck_shape"),
+        seed,
+        Sensors::default(),
+        ContactKind::LuGre,
+        Family::A,
+        Axes::Issue,
+        DwellLaw::Aging,
+    );
+    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+    let opts = Options {
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let stage = &d.stages[0];
+    let left = d.unexplained(stage);
+    assert!(
+        left.exceeds_measurement(),
+        "{seed}: ratio {:.2}",
+        left.ratio()
+    );
+    assert_eq!(
+        first_significant(&stage.candidates),
+        Some("stribeck_shape"),
+        "{seed}: {}",
+        report(&d)
+    );
+    let dwell = dwell_candidate(stage);
+    let evidence = dwell
+        .dwell
+        .as_ref()
+        .expect("the record tests the dwell term");
+    assert!(
+        evidence.growth_shown
+            || evidence.age_at_stick != Some(DwellAge::Aging)
+            || !dwell.significant,
+        "{seed}: an aging term whose growth is not shown judged significant"
     );
 }
 

@@ -1525,19 +1525,21 @@ impl DwellRule {
 /// (`dwell_clock_probe fit 35110 --axes issue`: 1.91 % at best with it, 2.59 % with the
 /// body's clock, floor 0.39 %). An accumulating age on the contact's slip is not searched: it
 /// fitted as the body's does there (2.60 against 2.59 %) and would cost a fourth of the search.
-/// The core's aging law ([`DwellAge::Aging`], session 100) is not searched: as a fourth rule on
-/// the body's speed it brought never-run aging dwell records within 1.2x their floor on 11 of
-/// 20 against 3, but named dwell stiction on effect-free record 138 (wide axes, baseline at
-/// 0.70x its floor; test `a_saturated_dwell_level_within_the_measurement_is_held`), where the
-/// three rules hold it. It is searched where the term is added as a stage instead
-/// ([`STAGE_DWELL_RULE`]). Session 104 searched it in the ranking only where the model leaves
-/// more than the measurement accounts for (`docs/registrations/s104/prereg.txt`): on never-run
-/// sets 54 -> 56 of 60 dwell records named and no effect-free record gained an effect, but
-/// Stribeck record 34843 was read as dwell stiction. While sliding the aging age holds
-/// `D / |v|`, so the term is a velocity-weakening curve too, and its rest-independent twin
-/// (`ranking::twin_model`, at [`super::breakaway::REST_INDEPENDENT_TAU_S`]) keeps part of that
-/// curve; not adopted.
-pub const DWELL_RULES: [DwellRule; 3] = [
+/// The core's aging law ([`DwellAge::Aging`], session 100) on the body's speed, grown either
+/// way ([`DwellGrowth`]), comes last and is searched only where the model judged against leaves
+/// more than the measurement accounts for ([`rules`]). As a fourth rule searched everywhere it
+/// brought never-run aging dwell records within 1.2x their floor on 11 of 20 against 3, but
+/// named dwell stiction on effect-free record 138 (wide axes, its model leaving 0.64x what
+/// the measurement accounts for; test `a_saturated_dwell_level_within_the_measurement_is_held`).
+/// While sliding the aging age holds `D / |v|`, so the term is a velocity-weakening curve too,
+/// and its rest-independent twin (`ranking::twin_model`, at
+/// [`super::breakaway::REST_INDEPENDENT_TAU_S`]) keeps part of that curve: session 104 read
+/// never-run Stribeck record 34843 as an aging dwell term whose growth with the rest was not
+/// shown (`docs/registrations/s104/prereg.txt`). So an aging term counts only where its growth
+/// with the rest time is shown: it is never judged as a saturated level (`ranking::judge`), and
+/// where its growth is not shown the candidate is the first three rules' fit
+/// (`ranking::score`, session 105).
+pub const DWELL_RULES: [DwellRule; 5] = [
     DwellRule {
         age: DwellAge::Accumulates,
         clock: DwellClock::BodySpeed,
@@ -1553,14 +1555,21 @@ pub const DWELL_RULES: [DwellRule; 3] = [
         clock: DwellClock::ContactSlip,
         growth: DwellGrowth::Exponential,
     },
+    STAGE_DWELL_RULE,
+    DwellRule {
+        growth: DwellGrowth::Hyperbolic,
+        ..STAGE_DWELL_RULE
+    },
 ];
 
-/// The dwell rule searched only where a `dwell_stiction` term is added as a stage
-/// (`ranking::stage_fit`), never in the ranking that decides whether it is significant: the
-/// core's aging law ([`DwellAge::Aging`]) on the body's speed. An aging age held at `D / |v|`
-/// while sliding makes the term a function of the sliding speed too, so as a rule of the
-/// ranking it absorbed misfit that was no dwell stiction (effect-free record 138, wide axes,
-/// session 100); once the term is named or asked for, the data choose its rule among all four.
+/// How many of [`DWELL_RULES`] come before the aging law's, searched whatever the model leaves.
+const DWELL_RULES_EVERYWHERE: usize = 3;
+
+/// The aging law's rule where a `dwell_stiction` term is added as a stage
+/// (`ranking::stage_fit`, its aging start): the core's aging law ([`DwellAge::Aging`]) on the
+/// body's speed. The ranking searches it only where the model leaves more than the measurement
+/// accounts for ([`rules`]); once the term is named or asked for, the data choose its rule
+/// among all of them whatever the model leaves.
 pub const STAGE_DWELL_RULE: DwellRule = DwellRule {
     age: DwellAge::Aging,
     clock: DwellClock::BodySpeed,
@@ -1569,12 +1578,13 @@ pub const STAGE_DWELL_RULE: DwellRule = DwellRule {
 
 /// The rules of `effect` the data choose between, each searched at every shape value on every
 /// other point of the effect's grid, the best one then over the whole grid: the dwell's
-/// ([`DWELL_RULES`]). None for an effect without rules.
-pub fn rules(effect: EffectKind) -> &'static [DwellRule] {
-    if effect == EffectKind::DwellStiction {
-        &DWELL_RULES
-    } else {
-        &[]
+/// ([`DWELL_RULES`]), with the aging law's only where `beyond_reading` (the model judged against
+/// leaves more than the measurement accounts for). None for an effect without rules.
+pub fn rules(effect: EffectKind, beyond_reading: bool) -> &'static [DwellRule] {
+    match (effect, beyond_reading) {
+        (EffectKind::DwellStiction, true) => &DWELL_RULES,
+        (EffectKind::DwellStiction, false) => &DWELL_RULES[..DWELL_RULES_EVERYWHERE],
+        _ => &[],
     }
 }
 
@@ -1808,8 +1818,10 @@ mod chord_tests {
     /// Every dwell rule the data choose reaches the model whole: its age rule, its clock and
     /// its clock's stick threshold (a slip clock left at the body's threshold, four times
     /// its own, counts most of a slide as a stick), and reads back as itself; the rules are
-    /// distinct, so none is searched twice; the stage's own rule is none of the ranking's, and
-    /// between them every age rule of the core is searched.
+    /// distinct, so none is searched twice; every age rule of the core is searched where the
+    /// model leaves more than the measurement accounts for, the aging law's (the stage's rule
+    /// among them) nowhere else, and they come after the others, so a tie keeps the others'
+    /// choice.
     #[test]
     fn a_dwell_rule_reaches_the_model_with_its_clocks_threshold() {
         let mut m = truth();
@@ -1822,10 +1834,21 @@ mod chord_tests {
             clock: DwellClock::BodySpeed,
             growth: DwellGrowth::Exponential,
         });
-        let ranked = rules(EffectKind::DwellStiction);
-        assert_eq!(ranked.len(), DWELL_RULES.len());
-        assert!(!ranked.contains(&STAGE_DWELL_RULE));
-        let searched: Vec<DwellRule> = ranked.iter().copied().chain([STAGE_DWELL_RULE]).collect();
+        let everywhere = rules(EffectKind::DwellStiction, false);
+        let searched = rules(EffectKind::DwellStiction, true);
+        assert_eq!(searched, &DWELL_RULES[..]);
+        assert!(searched.starts_with(everywhere));
+        assert!(everywhere.iter().all(|r| r.age != DwellAge::Aging));
+        assert!(searched[everywhere.len()..]
+            .iter()
+            .all(|r| r.age == DwellAge::Aging));
+        assert!(searched.contains(&STAGE_DWELL_RULE));
+        for growth in DwellGrowth::ALL {
+            assert!(
+                searched.iter().any(|r| r.growth == growth),
+                "{growth:?} never searched"
+            );
+        }
         for age in DwellAge::ALL {
             assert!(
                 searched.iter().any(|r| r.age == age),
@@ -1844,7 +1867,8 @@ mod chord_tests {
             assert_eq!(d.stick_velocity, want, "{rule:?}");
         }
         assert!(searched.iter().any(|r| r.clock == DwellClock::ContactSlip));
-        assert!(rules(EffectKind::Offset).is_empty());
+        assert!(rules(EffectKind::Offset, true).is_empty());
+        assert!(rules(EffectKind::Offset, false).is_empty());
     }
 
     /// The Gauss-Newton columns are derived by hand (the load's share and series, the

@@ -454,6 +454,13 @@ pub struct Candidate {
     /// ([`verdict_samples`]).
     #[serde(skip)]
     model_start: Option<Fit>,
+    /// For `dwell_stiction`, where the ranking searched the aging rules, chose one of them
+    /// ([`fit::rules`]) and its growth with the rest time is shown: its best fit under the other
+    /// rules (what it chose before session 104),
+    /// kept as a dwell stage's start, with the aging start searched from it as before
+    /// (`ranking::stage_fit`).
+    #[serde(skip)]
+    rule_start: Option<Fit>,
     /// Searched again ([`polish`] with [`Search::CLOSE_CALL`]) and judged on that fit: a
     /// close call in the stage's final ranking, its error within
     /// [`CLOSE_CALL`] of the first significant candidate's, or that first candidate itself
@@ -684,6 +691,7 @@ impl Candidate {
             from_static_table: false,
             from_nested_check: None,
             model_start: None,
+            rule_start: None,
             settled_close_call: false,
             unchallenged_close_call: false,
             kept_over_larger: None,
@@ -886,6 +894,13 @@ impl Unexplained {
     /// [`UNEXPLAINED_RATIO`].
     pub fn beyond_measurement(&self) -> bool {
         self.ratio() > UNEXPLAINED_RATIO
+    }
+
+    /// The residual exceeds what the measurement accounts for at all (a ratio above 1, without
+    /// the margin of [`Self::beyond_measurement`]): where the ranking also searches the dwell
+    /// term's aging rules (`fit::rules`).
+    pub fn exceeds_measurement(&self) -> bool {
+        self.ratio() > 1.0
     }
 }
 
@@ -1447,7 +1462,13 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
                 (Some(_), _) => fit.clone(),
                 // the ranking's parsimony check already fitted it as a stage
                 (None, Some(staged)) => staged.clone(),
-                (None, None) => stage_fit(e, fit, candidate.model_start.as_ref(), &on),
+                (None, None) => stage_fit(
+                    e,
+                    fit,
+                    candidate.model_start.as_ref(),
+                    candidate.rule_start.as_ref(),
+                    &on,
+                ),
             }
         });
         let rank = !(opts.skip_final_ranking && k + 1 == add.len() + opts.auto);

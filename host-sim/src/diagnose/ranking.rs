@@ -33,16 +33,20 @@ struct Current<'a> {
     weight_sum: f64,
     /// It leaves more than the measurement accounts for ([`Unexplained::beyond_measurement`]).
     beyond_measurement: bool,
+    /// It leaves more than the measurement accounts for, without that verdict's margin
+    /// ([`Unexplained::exceeds_measurement`]).
+    exceeds_measurement: bool,
 }
 
 impl<'a> Current<'a> {
     fn new(fit: &'a Fit, on: &Scope) -> Self {
+        let left = unexplained(on.fitting.p, on.motion_spread_pct, &fit.prediction);
         Self {
             fit,
             peak_rss: on.brk.peak_rss(&fit.prediction),
             weight_sum: on.fitting.p.scored_weight().max(1.0),
-            beyond_measurement: unexplained(on.fitting.p, on.motion_spread_pct, &fit.prediction)
-                .beyond_measurement(),
+            beyond_measurement: left.beyond_measurement(),
+            exceeds_measurement: left.exceeds_measurement(),
         }
     }
 }
@@ -183,7 +187,7 @@ fn prefer_nested(out: &mut [Candidate], on: &Scope, current: &Fit) {
         {
             continue;
         }
-        let with_nested = stage_fit(nested, simpler, model_start, on);
+        let with_nested = stage_fit(nested, simpler, model_start, None, on);
         let on_top = rank_one(larger, on, &with_nested);
         let check = NestedCheck::new(larger, nested, &with_nested, on_top.as_ref());
         out[j].nested_check = Some(check);
@@ -238,7 +242,7 @@ fn larger_on_top(
     // 20137 ended at 0.52 % where the stage ends at 0.31 % (the truth 0.36 %), and asymmetry
     // on top cut the difference, a third of the error; the candidate's start alone (one round
     // or two) read calibration offset records as asymmetry (5 of 30, 1 of 30)
-    let with_nested = stage_fit(nested, simpler, model_start, on);
+    let with_nested = stage_fit(nested, simpler, model_start, None, on);
     let on_top = rank_one(larger, on, &with_nested);
     let check = NestedCheck::new(larger, nested, &with_nested, on_top.as_ref());
     // a larger candidate significant already is the answer once the simpler one steps aside:
@@ -287,7 +291,7 @@ fn hand_over(
     };
     let mut start = top.model;
     start.friction.effects = start.friction.effects.without(nested);
-    let handed = stage_fit(candidate.kind, &on.refit(&start), None, on);
+    let handed = stage_fit(candidate.kind, &on.refit(&start), None, None, on);
     if handed.rss >= own.rss {
         return false;
     }
@@ -441,15 +445,32 @@ fn polish_again(
     reference: &Current,
     n_judge: f64,
 ) {
-    let polished: Vec<(usize, Fit)> = which
+    // (a dwell candidate's fit under the rules it was not chosen by is searched beside it, as
+    // it was searched where it was the candidate: `Candidate::rule_start`)
+    let polished: Vec<(usize, Fit, Option<Fit>)> = which
         .par_iter()
         .filter_map(|&i| {
             let f = out[i].fit.as_ref()?;
             let kind = out[i].kind;
-            Some((i, on.polish(f, Some(kind), search)))
+            let (f, r) = rayon::join(
+                || on.polish(f, Some(kind), search),
+                || {
+                    let r = out[i].rule_start.as_ref()?;
+                    let polished = on.polish(r, Some(kind), search);
+                    Some(if polished.rss < r.rss {
+                        polished
+                    } else {
+                        r.clone()
+                    })
+                },
+            );
+            Some((i, f, r))
         })
         .collect();
-    for (i, f) in polished {
+    for (i, f, rule_start) in polished {
+        if rule_start.is_some() {
+            out[i].rule_start = rule_start;
+        }
         let c = &out[i];
         if c.fit.as_ref().is_some_and(|g| f.rss < g.rss) {
             let info = effect_info(c.kind);
@@ -460,6 +481,7 @@ fn polish_again(
                 fitted_before_restart: c.fitted_before_restart,
                 from_static_table: c.from_static_table,
                 model_start: c.model_start.clone(),
+                rule_start: c.rule_start.clone(),
                 // the nested check judged the larger effect on top of this one as a stage,
                 // not on this fit: its verdict stands while this stays an answer
                 kept_over_larger: c.kept_over_larger.filter(|_| judged.significant),
@@ -549,6 +571,7 @@ fn judge_all(out: Vec<Candidate>, on: &Scope, reference: &Current) -> Vec<Candid
                 fitted_before_restart: c.fitted_before_restart,
                 from_static_table: c.from_static_table,
                 model_start: c.model_start.clone(),
+                rule_start: c.rule_start.clone(),
                 ..judge(
                     on.brk,
                     reference,
@@ -605,14 +628,14 @@ type RulePoint = (Option<DwellRule>, Option<f64>, f64, (f64, Fit));
 
 fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
     let (p, brk, n_eff) = (on.fitting.p, on.brk, on.fitting.n_eff);
-    let mut cand = Candidate {
+    let cand = Candidate {
         skipped: missing_channel(info.kind, p),
         ..Candidate::unscored(info)
     };
     if cand.skipped.is_some() {
         return cand;
     }
-    let (fit, nonlinear_ci) = match info.nonlinear {
+    let (chosen, other) = match info.nonlinear {
         Some((name, grid, null)) => {
             // the nonlinear parameter's grid, at each value of the second shape parameter,
             // under the effect's rule (the dwell's age at a new stick and its clock)
@@ -640,7 +663,9 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             // has the same first pass over its shape values, and only the chosen one is
             // searched whole: its tail's share is fitted at every point, so searching every
             // scale whole cost a diagnosis 0.3 s (session 99, `diagnose_timing 1151`).
-            let rules = fit::rules(info.kind);
+            // (the aging rules only where the model leaves more than the measurement accounts
+            // for: elsewhere they take up what the reading leaves, `fit::DWELL_RULES`)
+            let rules = fit::rules(info.kind, current.exceeds_measurement);
             let shape_first = rules.is_empty() && shapes.len() > 1;
             let coarse: Vec<RulePoint> = if rules.len() > 1 || shape_first {
                 let rule_set: Vec<Option<DwellRule>> = if rules.is_empty() {
@@ -670,7 +695,17 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                 Some((_, s, ..)) if shape_first => vec![*s],
                 _ => shapes.clone(),
             };
-            let search_at = |shape: Option<f64>| {
+            // where the aging rules were searched and one was chosen, the best of the others
+            // too: searched whole below as a dwell stage's start (`Candidate::rule_start`)
+            let other_rule: Option<DwellRule> = rule
+                .filter(|r| r.age == DwellAge::Aging)
+                .and_then(|_| {
+                    (coarse.iter())
+                        .filter(|(r, ..)| r.is_some_and(|r| r.age != DwellAge::Aging))
+                        .min_by(|a, b| (a.3).0.total_cmp(&(b.3).0))
+                })
+                .and_then(|(r, ..)| *r);
+            let search_at = |rule: Option<DwellRule>, shape: Option<f64>| {
                 effect_grid_min(info, grid, |x| {
                     let same =
                         |v: Option<f64>, w: Option<f64>| v.map(f64::to_bits) == w.map(f64::to_bits);
@@ -689,80 +724,116 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             // search keeps them, so the best fit and the profile are the same bit for bit
             // (the identity set's suite JSON unchanged; `diagnose_timing 1097 1098` paired
             // ratio 0.978, session 68: within the machine's noise).
-            let on_grid: Vec<fit::GridResult<Fit>> =
-                searched_shapes.par_iter().map(|&s| search_at(s)).collect();
-            // the profile over the second shape parameter, and between its grid's points the
-            // parabola through the best one and its neighbours in ln, searched once more there
-            // (the renewal distance on its decade grid left calibration dwell record 1701 at
-            // 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit` with RENEWAL_FINE,
-            // session 35)
-            // (a shape value not searched whole enters at its first pass's best: the quick
-            // fits' residuals, as the whole searches')
-            let mut shape_profile: ShapeProfile = (shapes.iter().flatten())
-                .map(|&v| {
-                    let whole = (searched_shapes.iter().zip(&on_grid))
-                        .find(|(s, _)| **s == Some(v))
-                        .map(|(_, (_, f, _))| f.rss);
-                    let first_pass = || {
-                        (coarse.iter())
-                            .filter(|(_, s, ..)| *s == Some(v))
-                            .map(|(.., (_, f))| f.rss)
-                            .fold(f64::INFINITY, f64::min)
-                    };
-                    (v, whole.unwrap_or_else(first_pass))
-                })
-                .collect();
-            let Some((x, f, profile)) = best_over_shapes(
-                on_grid,
-                &mut shape_profile,
-                |v| search_at(Some(v)),
-                objective,
-            ) else {
-                unreachable!("at least one shape value is searched")
+            // the rule's whole search: its grid at every shape value searched, then the vertex
+            // between shape values; the best, and the profile over the shape values
+            let whole_search = |rule: Option<DwellRule>| {
+                let on_grid: Vec<fit::GridResult<Fit>> = (searched_shapes.par_iter())
+                    .map(|&s| search_at(rule, s))
+                    .collect();
+                // the profile over the second shape parameter, and between its grid's points
+                // the parabola through the best one and its neighbours in ln, searched once
+                // more there (the renewal distance on its decade grid left calibration dwell
+                // record 1701 at 1.83 % where 0.5 mm gives 1.42 %, `dwell_clock_probe fit`
+                // with RENEWAL_FINE, session 35)
+                // (a shape value not searched whole enters at its first pass's best: the
+                // quick fits' residuals, as the whole searches')
+                let mut shape_profile: ShapeProfile = (shapes.iter().flatten())
+                    .map(|&v| {
+                        let whole = (searched_shapes.iter().zip(&on_grid))
+                            .find(|(s, _)| **s == Some(v))
+                            .map(|(_, (_, f, _))| f.rss);
+                        let first_pass = || {
+                            (coarse.iter())
+                                .filter(|(_, s, ..)| *s == Some(v))
+                                .map(|(.., (_, f))| f.rss)
+                                .fold(f64::INFINITY, f64::min)
+                        };
+                        (v, whole.unwrap_or_else(first_pass))
+                    })
+                    .collect();
+                let best = best_over_shapes(
+                    on_grid,
+                    &mut shape_profile,
+                    |v| search_at(rule, Some(v)),
+                    objective,
+                );
+                (best, shape_profile)
             };
-            let f = on.refit(&f.model);
-            // the profile interval from the grid's own (quick) residuals
-            let (lo, hi, inside) = profile_interval(&profile, n_eff, x);
-            let excludes_null = null.is_some_and(|z| {
-                !inside.iter().any(|v| (*v - z).abs() < 1e-12) && (z < lo || z > hi)
-            });
-            cand.parameters.push(ParamReport {
-                name: name.into(),
-                value: x,
-                ci_low: lo,
-                ci_high: hi,
-                at_search_edge: effect_on_edge(info, grid, x),
-            });
-            if let (Some((shape_name, shape_grid)), Some(v)) =
-                (info.shape, fit::shape_value(&f.model, info.kind))
-            {
-                let (lo, hi, _) = profile_interval(&shape_profile, n_eff, v);
-                cand.parameters.push(ParamReport {
-                    name: shape_name.into(),
-                    value: v,
+            let (mine, other) = rayon::join(
+                || whole_search(rule),
+                || other_rule.map(|r| whole_search(Some(r))),
+            );
+            // the best fit of a whole search refitted, with its parameters' profile intervals
+            // reported and whether the nonlinear parameter's excludes its null
+            let reported = |(best, shape_profile): (Option<fit::GridResult<Fit>>, ShapeProfile)| {
+                let Some((x, f, profile)) = best else {
+                    unreachable!("at least one shape value is searched")
+                };
+                let f = on.refit(&f.model);
+                let mut parameters = cand.parameters.clone();
+                // the profile interval from the grid's own (quick) residuals
+                let (lo, hi, inside) = profile_interval(&profile, n_eff, x);
+                let excludes_null = null.is_some_and(|z| {
+                    !inside.iter().any(|v| (*v - z).abs() < 1e-12) && (z < lo || z > hi)
+                });
+                parameters.push(ParamReport {
+                    name: name.into(),
+                    value: x,
                     ci_low: lo,
                     ci_high: hi,
-                    at_search_edge: on_edge(shape_grid, v),
+                    at_search_edge: effect_on_edge(info, grid, x),
                 });
-            }
-            (f, excludes_null)
+                if let (Some((shape_name, shape_grid)), Some(v)) =
+                    (info.shape, fit::shape_value(&f.model, info.kind))
+                {
+                    let (lo, hi, _) = profile_interval(&shape_profile, n_eff, v);
+                    parameters.push(ParamReport {
+                        name: shape_name.into(),
+                        value: v,
+                        ci_low: lo,
+                        ci_high: hi,
+                        at_search_edge: on_edge(shape_grid, v),
+                    });
+                }
+                (f, excludes_null, parameters)
+            };
+            (reported(mine), other.map(reported))
         }
         None => (
-            on.refit(&fit::add_effect(&current.fit.model, info.kind, p, 0.0)),
-            false,
+            (
+                on.refit(&fit::add_effect(&current.fit.model, info.kind, p, 0.0)),
+                false,
+                cand.parameters.clone(),
+            ),
+            None,
         ),
     };
-    let (fit, rest_null) = with_twin(on, info, current, fit);
-    judge(
-        brk,
-        current,
-        info,
-        fit,
-        cand.parameters.clone(),
-        nonlinear_ci,
-        rest_null,
-        n_eff,
-    )
+    let judged = |(fit, nonlinear_ci, parameters): (Fit, bool, Vec<ParamReport>)| {
+        let (fit, rest_null) = with_twin(on, info, current, fit);
+        judge(
+            brk,
+            current,
+            info,
+            fit,
+            parameters,
+            nonlinear_ci,
+            rest_null,
+            n_eff,
+        )
+    };
+    let candidate = judged(chosen);
+    match other {
+        // An aging dwell term counts only where its growth with the rest time is shown: while
+        // sliding its age holds `D / |v|`, a velocity-weakening curve, and a level its growth
+        // does not show is what a Stribeck curve leaves (session 104, never-run Stribeck
+        // record 34843). There the candidate is the other rules' fit, judged as before
+        // session 104.
+        Some(other) if !candidate.dwell.as_ref().is_some_and(|d| d.growth_shown) => judged(other),
+        other => Candidate {
+            rule_start: other.map(|(f, ..)| f),
+            ..candidate
+        },
+    }
 }
 
 /// The smallest relative cut of the model's error for which a candidate effect is reported as
@@ -953,15 +1024,22 @@ fn judge(
     // for, while used dwell records the rule missed left 1.8..6.5x). Until session 92 a term
     // whose growth was not shown could never be significant. A term whose growth is shown is
     // judged as before (its increase's sign unchecked: on used Maxwell-contact record 4552 a
-    // falling term is what the contact check holds, `dwell_held_by_contact`).
+    // falling term is what the contact check holds, `dwell_held_by_contact`). An aging term
+    // (`DwellAge::Aging`) is never judged as a saturated level: its age holds `D / |v|` while
+    // sliding, so a level whose growth is not shown is a velocity-weakening curve, a Stribeck
+    // curve's work (session 104, never-run Stribeck record 34843).
     let growth_shown = growth.is_some_and(|g| g >= breakaway::DWELL_MIN_GROWTH_DBIC);
     let caution = match info.kind {
         EffectKind::DwellStiction if !brk.ignored => brk.untestable.clone().or_else(|| {
-            let rises =
-                (fit.model.friction.effects.dwell_stiction).is_some_and(|d| d.max_increase > 0.0);
-            let judged_as_saturated = current.beyond_measurement && rises;
+            let term = fit.model.friction.effects.dwell_stiction;
+            let rises = term.is_some_and(|d| d.max_increase > 0.0);
+            // (an aging term's level is a velocity-weakening curve while sliding, `score`)
+            let aging = term.is_some_and(|d| d.age_at_stick == DwellAge::Aging);
+            let judged_as_saturated = current.beyond_measurement && rises && !aging;
             (!growth_shown && !judged_as_saturated).then(|| {
-                let why = if current.beyond_measurement {
+                let why = if aging {
+                    "and an aging term's level is a velocity-weakening curve while sliding"
+                } else if current.beyond_measurement {
                     "and the level it adds falls with the rest"
                 } else {
                     "and the model leaves no more than the measurement accounts for"
@@ -1094,13 +1172,15 @@ pub struct DwellEvidence {
     /// where the dwell term acts, whatever the rest of the record leaves.
     pub peak_cut: f64,
     /// The age rule the data chose for the term ([`fit::rules`]; serialised by its name,
-    /// `accumulates` or `restarts`).
+    /// `accumulates`, `restarts`, or `aging` where the model leaves more than the measurement
+    /// accounts for).
     pub age_at_stick: Option<DwellAge>,
     /// The clock the data chose for the term ([`fit::rules`]; serialised by its name,
     /// `body_speed` or `contact_slip`).
     pub clock: Option<DwellClock>,
-    /// The growth's form the term was fitted with (`exponential` wherever the ranking fits
-    /// it; a stage may choose `hyperbolic`).
+    /// The growth's form the term was fitted with (`exponential`, or `hyperbolic` under the
+    /// aging rule, which the ranking searches only where the model leaves more than the
+    /// measurement accounts for; a stage may choose `hyperbolic` under any rule).
     pub growth: Option<DwellGrowth>,
 }
 
@@ -1197,13 +1277,37 @@ fn with_twin(
 /// instead of 2.92 s and every output was the same; session 62, registration B3.)
 /// A dwell stage adds two starts of its own: the candidate's term under the aging law
 /// ([`aging_start`], beside the two), and, from the best of the three, the same term grown
-/// hyperbolically ([`growth_start`]).
+/// hyperbolically ([`growth_start`]). Where the ranking chose an aging rule, `rule_start` is
+/// its best fit under the others ([`Candidate::rule_start`], what the ranking chose before
+/// session 104): the stage from it is run as well, and the lower residual kept, so the stage
+/// reaches at least what it reached before the ranking searched the aging rules. (Session 104,
+/// never-run dwell record 35523: the stage from the aging candidate alone erred 0.27 % where
+/// the stage from the others' fit had reached 0.25 %; stage fits from different starts land
+/// a few percent apart.)
 pub(super) fn stage_fit(
     e: EffectKind,
     candidate: &Fit,
     model_start: Option<&Fit>,
+    rule_start: Option<&Fit>,
     on: &Scope,
 ) -> Fit {
+    let Some(before) = rule_start else {
+        return stage_from(e, candidate, model_start, on);
+    };
+    let (now, before) = rayon::join(
+        || stage_from(e, candidate, model_start, on),
+        || stage_from(e, before, model_start, on),
+    );
+    // the candidate's stage wins ties
+    if before.rss < now.rss {
+        before
+    } else {
+        now
+    }
+}
+
+/// [`stage_fit`] from one candidate fit: its starts searched side by side, the best kept.
+fn stage_from(e: EffectKind, candidate: &Fit, model_start: Option<&Fit>, on: &Scope) -> Fit {
     let stage_search = |f: &Fit| on.polish(f, Some(e), Search::STAGE);
     let ((from_candidate, second), aging) = rayon::join(
         || {
@@ -1242,9 +1346,9 @@ pub(super) fn stage_fit(
 /// A dwell stage's last start: the best stage fit's term under its own age rule and clock,
 /// grown hyperbolically ([`DwellGrowth::Hyperbolic`]), its time constant and renewal distance
 /// searched on the effect's grids ([`grid_start`]). The form of the growth is the data's to
-/// choose once the term is named: the stage keeps whichever form fits better. The ranking
-/// searches the exponential alone, so what decides that a dwell term is significant is
-/// unchanged. (Session 103, used aging dwell records of the axes 35423..35432 and
+/// choose once the term is named: the stage keeps whichever form fits better. (The ranking
+/// searches the hyperbolic form only under the aging rule, and only where the model leaves
+/// more than the measurement accounts for, [`fit::rules`].) (Session 103, used aging dwell records of the axes 35423..35432 and
 /// 35394..35397: with the hyperbolic form alone 10 of 14 within 1.2x their floor against 8;
 /// 35427 0.755 -> 0.609 %, 35397 0.938 -> 0.768 %; a few rose by up to 6 %, so neither form
 /// replaces the other.)
@@ -1262,8 +1366,9 @@ fn growth_start(best: &Fit, on: &Scope) -> Fit {
     }
 }
 
-/// A dwell stage's third start: the candidate's term under the stage-only aging rule
-/// ([`fit::STAGE_DWELL_RULE`]), its time constant and renewal distance searched on the
+/// A dwell stage's third start: the candidate's term under the aging rule
+/// ([`fit::STAGE_DWELL_RULE`], which the ranking searches only where the model leaves more than
+/// the measurement accounts for), its time constant and renewal distance searched on the
 /// effect's grids as the ranking searches its rules (`effect_grid_min`, with its parabola
 /// between grid points, at every renewal distance, then at the vertex between the best
 /// distance and its neighbours in ln: [`best_over_shapes`]), the best by the grid's

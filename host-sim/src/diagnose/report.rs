@@ -527,10 +527,14 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
                 Entry::Rule(rule) => {
                     let how = match key.as_str() {
                         "age_at_stick" => {
-                            "chosen by the data (accumulates or restarts; aging once added)"
+                            "chosen by the data (accumulates or restarts; aging where the model \
+                             leaves more than the measurement accounts for, or once added)"
                         }
                         "clock" => "chosen by the data (body_speed or contact_slip)",
-                        "growth" => "chosen by the data (exponential; hyperbolic once added)",
+                        "growth" => {
+                            "chosen by the data (exponential; hyperbolic under the aging rule, \
+                             or once added)"
+                        }
                         _ => "chosen by the data",
                     };
                     return vec![section, key, rule, String::new(), how.into()];
