@@ -1536,9 +1536,11 @@ impl DwellRule {
 /// [`super::breakaway::REST_INDEPENDENT_TAU_S`]) keeps part of that curve: session 104 read
 /// never-run Stribeck record 34843 as an aging dwell term whose growth with the rest was not
 /// shown (`docs/registrations/s104/prereg.txt`). So an aging term counts only where its growth
-/// with the rest time is shown: it is never judged as a saturated level (`ranking::judge`), and
-/// where its growth is not shown the candidate is the first three rules' fit
-/// (`ranking::score`, session 105).
+/// with the rest time is shown, over the whole record and at the breakaway peaks alone (what it
+/// adds while sliding is a speed curve, which the whole record's evidence counts too: never-run
+/// Maxwell-contact effect-free record 5882, session 105): it is never judged as a saturated
+/// level (`ranking::judge`), and where its growth is not shown the candidate is the first three
+/// rules' fit (`ranking::score`, session 105).
 pub const DWELL_RULES: [DwellRule; 5] = [
     DwellRule {
         age: DwellAge::Accumulates,

@@ -454,13 +454,13 @@ pub struct Candidate {
     /// ([`verdict_samples`]).
     #[serde(skip)]
     model_start: Option<Fit>,
-    /// For `dwell_stiction`, where the ranking searched the aging rules, chose one of them
-    /// ([`fit::rules`]) and its growth with the rest time is shown: its best fit under the other
-    /// rules (what it chose before session 104),
-    /// kept as a dwell stage's start, with the aging start searched from it as before
-    /// (`ranking::stage_fit`).
+    /// For `dwell_stiction`, where the ranking searched the aging rules and chose one of them
+    /// ([`fit::rules`]): its best fit under the other rules (what it chose before session
+    /// 104), the candidate wherever the aging term's growth with the rest time is not shown
+    /// (`ranking::RuleStart`), and elsewhere kept as a dwell stage's start, with the aging
+    /// start searched from it as before (`ranking::stage_fit`).
     #[serde(skip)]
-    rule_start: Option<Fit>,
+    rule_start: Option<RuleStart>,
     /// Searched again ([`polish`] with [`Search::CLOSE_CALL`]) and judged on that fit: a
     /// close call in the stage's final ranking, its error within
     /// [`CLOSE_CALL`] of the first significant candidate's, or that first candidate itself
@@ -1466,7 +1466,7 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
                     e,
                     fit,
                     candidate.model_start.as_ref(),
-                    candidate.rule_start.as_ref(),
+                    candidate.rule_start.as_ref().map(|r| &r.fit),
                     &on,
                 ),
             }

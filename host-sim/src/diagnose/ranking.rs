@@ -447,7 +447,7 @@ fn polish_again(
 ) {
     // (a dwell candidate's fit under the rules it was not chosen by is searched beside it, as
     // it was searched where it was the candidate: `Candidate::rule_start`)
-    let polished: Vec<(usize, Fit, Option<Fit>)> = which
+    let polished: Vec<(usize, Fit, Option<RuleStart>)> = which
         .par_iter()
         .filter_map(|&i| {
             let f = out[i].fit.as_ref()?;
@@ -456,11 +456,14 @@ fn polish_again(
                 || on.polish(f, Some(kind), search),
                 || {
                     let r = out[i].rule_start.as_ref()?;
-                    let polished = on.polish(r, Some(kind), search);
-                    Some(if polished.rss < r.rss {
-                        polished
-                    } else {
-                        r.clone()
+                    let polished = on.polish(&r.fit, Some(kind), search);
+                    Some(RuleStart {
+                        fit: if polished.rss < r.fit.rss {
+                            polished
+                        } else {
+                            r.fit.clone()
+                        },
+                        ..r.clone()
                     })
                 },
             );
@@ -477,11 +480,13 @@ fn polish_again(
             let rest_null = rest_independent_twin(on, info, reference, &f);
             let (params, nl) = (c.parameters.clone(), c.nonlinear_excludes_null);
             let judged = judge(on.brk, reference, info, f, params, nl, rest_null, n_judge);
+            let judged = RuleStart::unless_shown(judged, c.rule_start.as_ref(), |r| {
+                r.judged(on, info, reference, n_judge)
+            });
             out[i] = Candidate {
                 fitted_before_restart: c.fitted_before_restart,
                 from_static_table: c.from_static_table,
                 model_start: c.model_start.clone(),
-                rule_start: c.rule_start.clone(),
                 // the nested check judged the larger effect on top of this one as a stage,
                 // not on this fit: its verdict stands while this stays an answer
                 kept_over_larger: c.kept_over_larger.filter(|_| judged.significant),
@@ -571,16 +576,19 @@ fn judge_all(out: Vec<Candidate>, on: &Scope, reference: &Current) -> Vec<Candid
                 fitted_before_restart: c.fitted_before_restart,
                 from_static_table: c.from_static_table,
                 model_start: c.model_start.clone(),
-                rule_start: c.rule_start.clone(),
-                ..judge(
-                    on.brk,
-                    reference,
-                    effect_info(c.kind),
-                    f.clone(),
-                    c.parameters.clone(),
-                    c.nonlinear_excludes_null,
-                    c.rest_null,
-                    n_c,
+                ..RuleStart::unless_shown(
+                    judge(
+                        on.brk,
+                        reference,
+                        effect_info(c.kind),
+                        f.clone(),
+                        c.parameters.clone(),
+                        c.nonlinear_excludes_null,
+                        c.rest_null,
+                        n_c,
+                    ),
+                    c.rule_start.as_ref(),
+                    |r| r.judged(on, effect_info(c.kind), reference, n_c),
                 )
             },
             _ => c.clone(),
@@ -808,31 +816,83 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             None,
         ),
     };
-    let judged = |(fit, nonlinear_ci, parameters): (Fit, bool, Vec<ParamReport>)| {
-        let (fit, rest_null) = with_twin(on, info, current, fit);
+    let (fit, nonlinear_excludes_null, parameters) = chosen;
+    let (fit, rest_null) = with_twin(on, info, current, fit);
+    let candidate = judge(
+        brk,
+        current,
+        info,
+        fit,
+        parameters,
+        nonlinear_excludes_null,
+        rest_null,
+        n_eff,
+    );
+    let rule_start = other.map(|(fit, nonlinear_excludes_null, parameters)| RuleStart {
+        fit,
+        parameters,
+        nonlinear_excludes_null,
+    });
+    RuleStart::unless_shown(candidate, rule_start.as_ref(), |r| {
+        r.judged(on, info, current, n_eff)
+    })
+}
+
+/// A `dwell_stiction` candidate's best fit under the first three rules where the ranking chose
+/// an aging rule ([`fit::rules`]), with what its search reported ([`Candidate::rule_start`]).
+/// An aging dwell term counts only where its growth with the rest time is shown: while sliding
+/// its age holds `D / |v|`, a velocity-weakening curve, and a level its growth does not show is
+/// what a Stribeck curve leaves (session 104, never-run Stribeck record 34843), and its growth
+/// must show at the breakaway peaks alone as well ([`judge`]). Where it is not shown, wherever
+/// the candidate is judged (scored, searched again, judged on the verdict's yardstick), the
+/// candidate is this fit, judged as before session 104.
+#[derive(Clone, Debug)]
+pub(super) struct RuleStart {
+    /// The fit (searched again wherever the candidate is, `polish_again`).
+    pub(super) fit: Fit,
+    /// Its nonlinear parameters as its grid search reported them.
+    parameters: Vec<ParamReport>,
+    /// Its nonlinear parameter's profile interval excludes the null.
+    nonlinear_excludes_null: bool,
+}
+
+impl RuleStart {
+    /// This fit judged against `current` on `n_eff` effective samples, with its own
+    /// rest-independent twin; it is no one's rule start.
+    fn judged(&self, on: &Scope, info: &EffectInfo, current: &Current, n_eff: f64) -> Candidate {
+        let (fit, rest_null) = with_twin(on, info, current, self.fit.clone());
         judge(
-            brk,
+            on.brk,
             current,
             info,
             fit,
-            parameters,
-            nonlinear_ci,
+            self.parameters.clone(),
+            self.nonlinear_excludes_null,
             rest_null,
             n_eff,
         )
-    };
-    let candidate = judged(chosen);
-    match other {
-        // An aging dwell term counts only where its growth with the rest time is shown: while
-        // sliding its age holds `D / |v|`, a velocity-weakening curve, and a level its growth
-        // does not show is what a Stribeck curve leaves (session 104, never-run Stribeck
-        // record 34843). There the candidate is the other rules' fit, judged as before
-        // session 104.
-        Some(other) if !candidate.dwell.as_ref().is_some_and(|d| d.growth_shown) => judged(other),
-        other => Candidate {
-            rule_start: other.map(|(f, ..)| f),
-            ..candidate
-        },
+    }
+
+    /// `judged`, an aging dwell candidate whose growth is not shown, gives way to its rule
+    /// start judged by `judge_start`; else it keeps its rule start.
+    fn unless_shown(
+        judged: Candidate,
+        start: Option<&RuleStart>,
+        judge_start: impl FnOnce(&RuleStart) -> Candidate,
+    ) -> Candidate {
+        let Some(start) = start else {
+            return judged;
+        };
+        let aging = judged.dwell.as_ref().and_then(|d| d.age_at_stick) == Some(DwellAge::Aging);
+        let shown = judged.dwell.as_ref().is_some_and(|d| d.growth_shown);
+        if aging && !shown {
+            judge_start(start)
+        } else {
+            Candidate {
+                rule_start: Some(start.clone()),
+                ..judged
+            }
+        }
     }
 }
 
@@ -1028,28 +1088,41 @@ fn judge(
     // (`DwellAge::Aging`) is never judged as a saturated level: its age holds `D / |v|` while
     // sliding, so a level whose growth is not shown is a velocity-weakening curve, a Stribeck
     // curve's work (session 104, never-run Stribeck record 34843).
-    let growth_shown = growth.is_some_and(|g| g >= breakaway::DWELL_MIN_GROWTH_DBIC);
+    // An aging term's growth must show at the breakaway peaks themselves as well: while
+    // sliding what it adds is a speed curve, which the whole record's evidence against its twin
+    // counts too (session 105, never-run Maxwell-contact effect-free record 5882: evidence 168
+    // against the twin, its peaks 1 % worse than the twin's).
+    let term = fit.model.friction.effects.dwell_stiction;
+    let aging = term.is_some_and(|d| d.age_at_stick == DwellAge::Aging);
+    let at_peaks = rest_null.and_then(|null| brk.counted_peak_dbic(null.peak_rss, peak_rss));
+    let shows = |g: Option<f64>| g.is_some_and(|g| g >= breakaway::DWELL_MIN_GROWTH_DBIC);
+    let growth_shown = shows(growth) && (!aging || shows(at_peaks));
     let caution = match info.kind {
         EffectKind::DwellStiction if !brk.ignored => brk.untestable.clone().or_else(|| {
-            let term = fit.model.friction.effects.dwell_stiction;
             let rises = term.is_some_and(|d| d.max_increase > 0.0);
             // (an aging term's level is a velocity-weakening curve while sliding, `score`)
-            let aging = term.is_some_and(|d| d.age_at_stick == DwellAge::Aging);
             let judged_as_saturated = current.beyond_measurement && rises && !aging;
             (!growth_shown && !judged_as_saturated).then(|| {
-                let why = if aging {
-                    "and an aging term's level is a velocity-weakening curve while sliding"
-                } else if current.beyond_measurement {
+                let (growth, needed) = (
+                    tenths(growth.unwrap_or(f64::NEG_INFINITY)),
+                    breakaway::DWELL_MIN_GROWTH_DBIC,
+                );
+                let lead =
+                    "a breakaway level that ignores the rest time explains the record as well";
+                if aging {
+                    return format!(
+                        "{lead} (evidence for growth with rest {growth:.1}, at the breakaway peaks \
+                         {:.1}; {needed} needed for both), and an aging term's level is a \
+                         velocity-weakening curve while sliding",
+                        tenths(at_peaks.unwrap_or(f64::NEG_INFINITY))
+                    );
+                }
+                let why = if current.beyond_measurement {
                     "and the level it adds falls with the rest"
                 } else {
                     "and the model leaves no more than the measurement accounts for"
                 };
-                format!(
-                    "a breakaway level that ignores the rest time explains the record as well \
-                     (evidence for growth with rest {:.1} < {}), {why}",
-                    tenths(growth.unwrap_or(f64::NEG_INFINITY)),
-                    breakaway::DWELL_MIN_GROWTH_DBIC
-                )
+                format!("{lead} (evidence for growth with rest {growth:.1} < {needed}), {why}")
             })
         }),
         _ => None,
@@ -1157,7 +1230,8 @@ pub struct DwellEvidence {
     /// stiction, judged as every effect is where the current model leaves more than the
     /// measurement accounts for and the level rises, held elsewhere
     /// ([`Candidate::saturated_note`] says so). Until session 92 such a term could not be
-    /// significant.
+    /// significant. An aging term ([`DwellAge::Aging`]) must show its growth at the breakaway
+    /// peaks alone as well, and where it does not it is never significant (session 105).
     pub growth_shown: bool,
     /// The twin's error [%].
     pub twin_rel_err_pct: f64,
