@@ -778,7 +778,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     unreachable!("at least one shape value is searched")
                 };
                 let f = on.refit(&f.model);
-                let mut parameters = cand.parameters.clone();
+                let mut parameters = Vec::new();
                 // the profile interval from the grid's own (quick) residuals
                 let (lo, hi, inside) = profile_interval(&profile, n_eff, x);
                 let excludes_null = null.is_some_and(|z| {
@@ -811,7 +811,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
             (
                 on.refit(&fit::add_effect(&current.fit.model, info.kind, p, 0.0)),
                 false,
-                cand.parameters.clone(),
+                Vec::new(),
             ),
             None,
         ),
