@@ -1191,17 +1191,11 @@ fn a_dwell_stage_refines_its_time_constant_between_grid_points() {
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn the_ranking_searches_the_aging_rule_where_the_model_leaves_more_than_the_reading() {
     let seed = 35474;
-    let (text, _) = generators::axis::dwell_record(seed, Axes::Issue, DwellLaw::Aging);
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let d = ranked_where_aging_rules_are_searched(Some("dwell_stiction"), seed, ContactKind::LuGre);
     let stage = &d.stages[0];
     let left = d.unexplained(stage);
     assert!(
-        left.exceeds_measurement() && !left.beyond_measurement(),
+        !left.beyond_measurement(),
         "{seed}: ratio {:.2}",
         left.ratio()
     );
@@ -1254,28 +1248,8 @@ fn a_dwell_stage_keeps_what_the_other_rules_candidate_reaches() {
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn an_aging_dwell_level_whose_growth_is_not_shown_is_not_named() {
     let seed = 34843;
-    let (text, _) = random_record_of(
-        Some("stribeck_shape"),
-        seed,
-        Sensors::default(),
-        ContactKind::LuGre,
-        Family::A,
-        Axes::Issue,
-        DwellLaw::Aging,
-    );
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let d = ranked_where_aging_rules_are_searched(Some("stribeck_shape"), seed, ContactKind::LuGre);
     let stage = &d.stages[0];
-    let left = d.unexplained(stage);
-    assert!(
-        left.exceeds_measurement(),
-        "{seed}: ratio {:.2}",
-        left.ratio()
-    );
     assert_eq!(
         first_significant(&stage.candidates),
         Some("stribeck_shape"),
@@ -1309,28 +1283,8 @@ fn an_aging_dwell_level_whose_growth_is_not_shown_is_not_named() {
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn an_aging_dwell_term_must_show_its_growth_at_the_breakaway_peaks() {
     let seed = 5882;
-    let (text, _) = random_record_of(
-        None,
-        seed,
-        Sensors::default(),
-        ContactKind::Maxwell,
-        Family::A,
-        Axes::Issue,
-        DwellLaw::Aging,
-    );
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let d = ranked_where_aging_rules_are_searched(None, seed, ContactKind::Maxwell);
     let stage = &d.stages[0];
-    let left = d.unexplained(stage);
-    assert!(
-        left.exceeds_measurement(),
-        "{seed}: ratio {:.2}",
-        left.ratio()
-    );
     assert_eq!(
         first_significant(&stage.candidates),
         None,
@@ -1341,6 +1295,40 @@ fn an_aging_dwell_term_must_show_its_growth_at_the_breakaway_peaks() {
         let aging = c.dwell.as_ref().and_then(|e| e.age_at_stick) == Some(DwellAge::Aging);
         assert!(!(aging && c.significant && c.dwell.as_ref().is_some_and(|e| e.peak_cut <= 0.0)));
     }
+}
+
+/// The issue's axes' family-A record of `effect` (`None`: effect-free) with seed `seed` on the
+/// `contact`, a dwell contact aged by the generator's aging law, diagnosed with the final
+/// ranking skipped; the model the first stage ranks against must leave more than the
+/// measurement accounts for (`Unexplained::exceeds_measurement`), where the ranking searches
+/// the aging dwell rules (`fit::rules`).
+fn ranked_where_aging_rules_are_searched(
+    effect: Option<&'static str>,
+    seed: u64,
+    contact: ContactKind,
+) -> Diagnosis {
+    let (text, _) = random_record_of(
+        effect,
+        seed,
+        Sensors::default(),
+        contact,
+        Family::A,
+        Axes::Issue,
+        DwellLaw::Aging,
+    );
+    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+    let opts = Options {
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let left = d.unexplained(&d.stages[0]);
+    assert!(
+        left.exceeds_measurement(),
+        "{seed}: ratio {:.2}",
+        left.ratio()
+    );
+    d
 }
 
 /// The issue's axes' aging dwell record `seed` diagnosed with `dwell_stiction` added as a

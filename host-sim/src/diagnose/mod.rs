@@ -457,10 +457,10 @@ pub struct Candidate {
     /// For `dwell_stiction`, where the ranking searched the aging rules and chose one of them
     /// ([`fit::rules`]): its best fit under the other rules (what it chose before session
     /// 104), the candidate wherever the aging term's growth with the rest time is not shown
-    /// (`ranking::RuleStart`), and elsewhere kept as a dwell stage's start, with the aging
+    /// (`ranking::SearchedFit::unless_shown`), and elsewhere kept as a dwell stage's start, with the aging
     /// start searched from it as before (`ranking::stage_fit`).
     #[serde(skip)]
-    rule_start: Option<RuleStart>,
+    rule_start: Option<SearchedFit>,
     /// Searched again ([`polish`] with [`Search::CLOSE_CALL`]) and judged on that fit: a
     /// close call in the stage's final ranking, its error within
     /// [`CLOSE_CALL`] of the first significant candidate's, or that first candidate itself

@@ -447,7 +447,7 @@ fn polish_again(
 ) {
     // (a dwell candidate's fit under the rules it was not chosen by is searched beside it, as
     // it was searched where it was the candidate: `Candidate::rule_start`)
-    let polished: Vec<(usize, Fit, Option<RuleStart>)> = which
+    let polished: Vec<(usize, Fit, Option<SearchedFit>)> = which
         .par_iter()
         .filter_map(|&i| {
             let f = out[i].fit.as_ref()?;
@@ -457,7 +457,7 @@ fn polish_again(
                 || {
                     let r = out[i].rule_start.as_ref()?;
                     let polished = on.polish(&r.fit, Some(kind), search);
-                    Some(RuleStart {
+                    Some(SearchedFit {
                         fit: if polished.rss < r.fit.rss {
                             polished
                         } else {
@@ -480,8 +480,8 @@ fn polish_again(
             let rest_null = rest_independent_twin(on, info, reference, &f);
             let (params, nl) = (c.parameters.clone(), c.nonlinear_excludes_null);
             let judged = judge(on.brk, reference, info, f, params, nl, rest_null, n_judge);
-            let judged = RuleStart::unless_shown(judged, c.rule_start.as_ref(), |r| {
-                r.judged(on, info, reference, n_judge)
+            let judged = SearchedFit::unless_shown(judged, c.rule_start.as_ref(), |r| {
+                r.clone().judged(on, info, reference, n_judge)
             });
             out[i] = Candidate {
                 fitted_before_restart: c.fitted_before_restart,
@@ -576,7 +576,7 @@ fn judge_all(out: Vec<Candidate>, on: &Scope, reference: &Current) -> Vec<Candid
                 fitted_before_restart: c.fitted_before_restart,
                 from_static_table: c.from_static_table,
                 model_start: c.model_start.clone(),
-                ..RuleStart::unless_shown(
+                ..SearchedFit::unless_shown(
                     judge(
                         on.brk,
                         reference,
@@ -588,7 +588,7 @@ fn judge_all(out: Vec<Candidate>, on: &Scope, reference: &Current) -> Vec<Candid
                         n_c,
                     ),
                     c.rule_start.as_ref(),
-                    |r| r.judged(on, effect_info(c.kind), reference, n_c),
+                    |r| r.clone().judged(on, effect_info(c.kind), reference, n_c),
                 )
             },
             _ => c.clone(),
@@ -635,7 +635,7 @@ fn best_over_shapes(
 type RulePoint = (Option<DwellRule>, Option<f64>, f64, (f64, Fit));
 
 fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
-    let (p, brk, n_eff) = (on.fitting.p, on.brk, on.fitting.n_eff);
+    let (p, n_eff) = (on.fitting.p, on.fitting.n_eff);
     let cand = Candidate {
         skipped: missing_channel(info.kind, p),
         ..Candidate::unscored(info)
@@ -803,51 +803,40 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                         at_search_edge: on_edge(shape_grid, v),
                     });
                 }
-                (f, excludes_null, parameters)
+                SearchedFit {
+                    fit: f,
+                    parameters,
+                    nonlinear_excludes_null: excludes_null,
+                }
             };
             (reported(mine), other.map(reported))
         }
         None => (
-            (
-                on.refit(&fit::add_effect(&current.fit.model, info.kind, p, 0.0)),
-                false,
-                Vec::new(),
-            ),
+            SearchedFit {
+                fit: on.refit(&fit::add_effect(&current.fit.model, info.kind, p, 0.0)),
+                parameters: Vec::new(),
+                nonlinear_excludes_null: false,
+            },
             None,
         ),
     };
-    let (fit, nonlinear_excludes_null, parameters) = chosen;
-    let (fit, rest_null) = with_twin(on, info, current, fit);
-    let candidate = judge(
-        brk,
-        current,
-        info,
-        fit,
-        parameters,
-        nonlinear_excludes_null,
-        rest_null,
-        n_eff,
-    );
-    let rule_start = other.map(|(fit, nonlinear_excludes_null, parameters)| RuleStart {
-        fit,
-        parameters,
-        nonlinear_excludes_null,
-    });
-    RuleStart::unless_shown(candidate, rule_start.as_ref(), |r| {
-        r.judged(on, info, current, n_eff)
+    let candidate = chosen.judged(on, info, current, n_eff);
+    SearchedFit::unless_shown(candidate, other.as_ref(), |r| {
+        r.clone().judged(on, info, current, n_eff)
     })
 }
 
-/// A `dwell_stiction` candidate's best fit under the first three rules where the ranking chose
-/// an aging rule ([`fit::rules`]), with what its search reported ([`Candidate::rule_start`]).
-/// An aging dwell term counts only where its growth with the rest time is shown: while sliding
-/// its age holds `D / |v|`, a velocity-weakening curve, and a level its growth does not show is
-/// what a Stribeck curve leaves (session 104, never-run Stribeck record 34843), and its growth
-/// must show at the breakaway peaks alone as well ([`judge`]). Where it is not shown, wherever
-/// the candidate is judged (scored, searched again, judged on the verdict's yardstick), the
-/// candidate is this fit, judged as before session 104.
+/// A candidate's fit as [`score`] searched it, with what its search reported: the candidate's
+/// own, and for `dwell_stiction` where the ranking chose an aging rule ([`fit::rules`]) its best
+/// fit under the first three rules ([`Candidate::rule_start`]). An aging dwell term counts only
+/// where its growth with the rest time is shown: while sliding its age holds `D / |v|`, a
+/// velocity-weakening curve, and a level its growth does not show is what a Stribeck curve
+/// leaves (session 104, never-run Stribeck record 34843), and its growth must show at the
+/// breakaway peaks alone as well ([`judge`]). Where it is not shown, wherever the candidate is
+/// judged (scored, searched again, judged on the verdict's yardstick), the candidate is the
+/// rule start, judged as before session 104 ([`SearchedFit::unless_shown`]).
 #[derive(Clone, Debug)]
-pub(super) struct RuleStart {
+pub(super) struct SearchedFit {
     /// The fit (searched again wherever the candidate is, `polish_again`).
     pub(super) fit: Fit,
     /// Its nonlinear parameters as its grid search reported them.
@@ -856,17 +845,17 @@ pub(super) struct RuleStart {
     nonlinear_excludes_null: bool,
 }
 
-impl RuleStart {
+impl SearchedFit {
     /// This fit judged against `current` on `n_eff` effective samples, with its own
-    /// rest-independent twin; it is no one's rule start.
-    fn judged(&self, on: &Scope, info: &EffectInfo, current: &Current, n_eff: f64) -> Candidate {
-        let (fit, rest_null) = with_twin(on, info, current, self.fit.clone());
+    /// rest-independent twin ([`with_twin`]); it is no one's rule start.
+    fn judged(self, on: &Scope, info: &EffectInfo, current: &Current, n_eff: f64) -> Candidate {
+        let (fit, rest_null) = with_twin(on, info, current, self.fit);
         judge(
             on.brk,
             current,
             info,
             fit,
-            self.parameters.clone(),
+            self.parameters,
             self.nonlinear_excludes_null,
             rest_null,
             n_eff,
@@ -877,8 +866,8 @@ impl RuleStart {
     /// start judged by `judge_start`; else it keeps its rule start.
     fn unless_shown(
         judged: Candidate,
-        start: Option<&RuleStart>,
-        judge_start: impl FnOnce(&RuleStart) -> Candidate,
+        start: Option<&SearchedFit>,
+        judge_start: impl FnOnce(&SearchedFit) -> Candidate,
     ) -> Candidate {
         let Some(start) = start else {
             return judged;
