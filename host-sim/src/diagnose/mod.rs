@@ -76,7 +76,7 @@ pub struct EffectInfo {
     pub shape: Option<(&'static str, &'static [f64])>,
     /// Where the nonlinear parameter is a model order (the cosine terms of
     /// `position_dependence`): how many of its grid's orders are tried first, the rest only
-    /// when the last of those is the best ([`fit::grid_min_extending`]). An order is penalised
+    /// while the best is one of the last two ([`fit::grid_min_extending`]). An order is penalised
     /// by the information criterion (`grid_objective`) and is at the edge of its search only
     /// at the top (none is a model the data chose).
     pub orders_first: Option<usize>,
@@ -132,9 +132,9 @@ pub const EFFECTS: [EffectInfo; 8] = [
             None,
         )),
         shape: None,
-        // 5.. only when 4 is the best of 0..4, and each further order only while the last is
-        // the best: tried on every record, the higher orders cost an offset record 0.25 s of
-        // its 5 s budget
+        // 5.. only when 3 or 4 is the best of 0..4, and each further four only while the best
+        // is one of the last two (`fit::grid_min_extending`): tried on every record, the higher
+        // orders cost an offset record 0.25 s of its 5 s budget
         orders_first: Some(5),
         stage_searched: None,
     },
