@@ -226,7 +226,7 @@ fn grid_objective(info: &EffectInfo, order: f64, rss: f64, n_eff: f64) -> f64 {
 }
 
 /// An effect's nonlinear grid searched ([`fit::grid_min_extending`]): all of it, or a model
-/// order's first points and the rest only while the last is the best
+/// order's first points and the rest only while the best is one of the last two
 /// ([`EffectInfo::orders_first`]).
 fn effect_grid_min<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     info: &EffectInfo,
