@@ -1263,7 +1263,7 @@ const EXTEND_BY: usize = 4;
 const EXTEND_WITHIN_LAST: usize = 2;
 
 /// [`grid_min`] over the first `first` points of `grid`, extended by `EXTEND_BY` points at a
-/// time only while the best so far is among the last [`EXTEND_WITHIN_LAST`] (a model order
+/// time only while the best so far is among the last `EXTEND_WITHIN_LAST` (a model order
 /// whose higher values are tried only while the lower ones keep improving).
 pub fn grid_min_extending<F: Fn(f64) -> (f64, T) + Sync, T: Send + Clone>(
     grid: &[f64],
