@@ -736,21 +736,7 @@ fn diagnose_issue_record(
     seed: u64,
     contact: ContactKind,
 ) -> Diagnosis {
-    let (text, _) = random_record_of(
-        effect,
-        seed,
-        Sensors::default(),
-        contact,
-        Family::A,
-        Axes::Issue,
-        DwellLaw::RestartAtStick,
-    );
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    diagnose::diagnose(&rec, "axis.csv", &opts).unwrap()
+    diagnose_issue_axes(effect, seed, contact, DwellLaw::RestartAtStick, &[]).0
 }
 
 /// Where the model leaves more than the measurement accounts for and a Maxwell-slip contact in
@@ -1017,12 +1003,18 @@ fn a_wear_spot_narrower_than_eight_half_waves_gets_more_terms() {
 /// and the error within 1.2x the noise floor.
 fn spot_followed_past(seed: u64, terms: usize) {
     let (d, axis) = diagnose(Some("position_dependence"), seed, &["position_dependence"]);
-    let floor = truth_error_pct(&axis, &d.prepared);
+    position_followed_past(&d, &axis, terms);
+}
+
+/// A diagnosis `d` of `axis`'s record with the position dependence added: more than `terms`
+/// cosine terms, and the error within 1.2x the noise floor.
+fn position_followed_past(d: &Diagnosis, axis: &Axis, terms: usize) {
+    let floor = truth_error_pct(axis, &d.prepared);
     let added = d.stages[1].fit.rel_err_pct;
     let pd = d.model().friction.effects.position_dependence.unwrap();
     println!(
         "{}; added {added:.2} %, floor {floor:.2} %, {} terms",
-        report(&d),
+        report(d),
         pd.terms
     );
     assert!(pd.terms > terms, "{} terms", pd.terms);
@@ -1042,31 +1034,14 @@ fn spot_followed_past(seed: u64, terms: usize) {
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_position_shape_carried_by_every_other_term_is_searched_past_one_that_does_not_pay() {
-    let seed = 34617;
-    let (text, axis) = random_record_of(
+    let (d, axis) = diagnose_issue_axes(
         Some("position_dependence"),
-        seed,
-        Sensors::default(),
+        34617,
         ContactKind::LuGre,
-        Family::A,
-        Axes::Issue,
         DwellLaw::Aging,
+        &["position_dependence"],
     );
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        add: vec!["position_dependence".into()],
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
-    let floor = truth_error_pct(&axis, &d.prepared);
-    let added = d.last_stage().fit.rel_err_pct;
-    let pd = d.model().friction.effects.position_dependence.unwrap();
-    assert!(pd.terms > 4, "{seed}: {} terms", pd.terms);
-    assert!(
-        added <= 1.2 * floor,
-        "{seed}: {added:.2} % against the floor's {floor:.2} %"
-    );
+    position_followed_past(&d, &axis, 4);
 }
 
 /// The generator's own check: its true model driven by the measured motion through the
@@ -1344,21 +1319,7 @@ fn ranked_where_aging_rules_are_searched(
     seed: u64,
     contact: ContactKind,
 ) -> Diagnosis {
-    let (text, _) = random_record_of(
-        effect,
-        seed,
-        Sensors::default(),
-        contact,
-        Family::A,
-        Axes::Issue,
-        DwellLaw::Aging,
-    );
-    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
-    let opts = Options {
-        skip_final_ranking: true,
-        ..Default::default()
-    };
-    let d = diagnose::diagnose(&rec, "axis.csv", &opts).unwrap();
+    let (d, _) = diagnose_issue_axes(effect, seed, contact, DwellLaw::Aging, &[]);
     let left = d.unexplained(&d.stages[0]);
     assert!(
         left.exceeds_measurement(),
@@ -1366,6 +1327,35 @@ fn ranked_where_aging_rules_are_searched(
         left.ratio()
     );
     d
+}
+
+/// The issue's axes' family-A record of `effect` (`None`: effect-free) with seed `seed` on the
+/// `contact`, a dwell contact aged by the generator's `law` (`DwellLaw::Aging` is what
+/// `axis_suite --axes issue` draws), diagnosed with the effects `add` added and the final
+/// ranking skipped.
+fn diagnose_issue_axes(
+    effect: Option<&'static str>,
+    seed: u64,
+    contact: ContactKind,
+    law: DwellLaw,
+    add: &[&str],
+) -> (Diagnosis, Axis) {
+    let (text, axis) = random_record_of(
+        effect,
+        seed,
+        Sensors::default(),
+        contact,
+        Family::A,
+        Axes::Issue,
+        law,
+    );
+    let rec = Record::parse(&text, Path::new("axis.csv")).unwrap();
+    let opts = Options {
+        add: add.iter().map(|s| s.to_string()).collect(),
+        skip_final_ranking: true,
+        ..Default::default()
+    };
+    (diagnose::diagnose(&rec, "axis.csv", &opts).unwrap(), axis)
 }
 
 /// The issue's axes' aging dwell record `seed` diagnosed with `dwell_stiction` added as a
