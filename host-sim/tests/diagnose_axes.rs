@@ -1126,12 +1126,37 @@ fn a_dwell_stage_takes_the_aging_rule_where_the_contact_ages_by_it() {
     let term = stage.fit.model.friction.effects.dwell_stiction.unwrap();
     assert_eq!(
         (term.age_at_stick, term.clock),
-        (DwellAge::Aging, DwellClock::BodySpeed)
+        (DwellAge::Aging, DwellClock::ContactSlip)
     );
     let added = stage.fit.rel_err_pct;
     assert!(
         added <= 0.8 * ranked_err && added <= 1.2 * floor,
         "{added:.2} % against the ranked {ranked_err:.2} % and the floor {floor:.2} %"
+    );
+}
+
+/// The aging law ages on the contact's slip (session 107, `STAGE_DWELL_RULE`): the junctions
+/// are renewed where the contact slides, and a bristle that only deflects (pre-sliding, the
+/// creep of a held axis, a reversal) renews none of them. On the issue's axes, used aging dwell
+/// record 35631's stage erred 0.62 % under the aging law on the body's speed (1.9x its floor of
+/// 0.33 %), and errs 0.29 % on the contact's slip (`host-sim diagnose --data dwell_stiction.csv
+/// --add dwell_stiction` on `axis_suite --write DIR --seed 35631 --axes issue`). Fails if the
+/// stage's aging rule runs on the body's speed, or if the stage errs more than 1.2x the floor.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn a_dwell_stage_ages_its_junctions_on_the_contacts_slip() {
+    let seed = 35631;
+    let (d, floor) = aging_dwell_stage(seed);
+    let term = (d.last_stage().fit.model.friction.effects.dwell_stiction).unwrap();
+    assert_eq!(
+        (term.age_at_stick, term.clock),
+        (DwellAge::Aging, DwellClock::ContactSlip),
+        "{term:?}"
+    );
+    let added = d.last_stage().fit.rel_err_pct;
+    assert!(
+        added <= 1.2 * floor,
+        "{added:.3} % against the floor {floor:.3} %"
     );
 }
 

@@ -1534,7 +1534,7 @@ impl DwellRule {
 /// (`dwell_clock_probe fit 35110 --axes issue`: 1.91 % at best with it, 2.59 % with the
 /// body's clock, floor 0.39 %). An accumulating age on the contact's slip is not searched: it
 /// fitted as the body's does there (2.60 against 2.59 %) and would cost a fourth of the search.
-/// The core's aging law ([`DwellAge::Aging`], session 100) on the body's speed, grown either
+/// The core's aging law ([`DwellAge::Aging`], session 100) on the contact's slip (the body's speed until session 107), grown either
 /// way ([`DwellGrowth`]), comes last and is searched only where the model judged against leaves
 /// more than the measurement accounts for ([`rules`]). As a fourth rule searched everywhere it
 /// brought never-run aging dwell records within 1.2x their floor on 11 of 20 against 3, but
@@ -1578,12 +1578,20 @@ const DWELL_RULES_EVERYWHERE: usize = 3;
 
 /// The aging law's rule where a `dwell_stiction` term is added as a stage
 /// (`ranking::stage_fit`, its aging start): the core's aging law ([`DwellAge::Aging`]) on the
-/// body's speed. The ranking searches it only where the model leaves more than the measurement
-/// accounts for ([`rules`]); once the term is named or asked for, the data choose its rule
-/// among all of them whatever the model leaves.
+/// contact's slip. The ranking searches it only where the model leaves more than the
+/// measurement accounts for ([`rules`]); once the term is named or asked for, the data choose
+/// its rule among all of them whatever the model leaves. The aging law's state is the
+/// contact's (rate-and-state friction: `d theta/dt = 1 - theta |v_slip| / D`): the junctions
+/// are renewed by the contact's slip, and a bristle that only deflects (pre-sliding, a
+/// reversal, the creep of a held axis) renews none of them. Until session 107 it ran on the
+/// body's speed, which counted every pre-sliding micrometre as slip: on used issue-axes aging
+/// dwell records the stage erred 0.62 % against 0.29 % on the contact's slip (35631, floor
+/// 0.33 %), 0.38 % against 0.20 % (35638), 1.01 % against 0.81 % (35644); of 17 such records
+/// none rose by more than 0.01 % (`host-sim diagnose --data dwell_stiction.csv --add
+/// dwell_stiction` on `axis_suite --write DIR --seed N --axes issue`).
 pub const STAGE_DWELL_RULE: DwellRule = DwellRule {
     age: DwellAge::Aging,
-    clock: DwellClock::BodySpeed,
+    clock: DwellClock::ContactSlip,
     growth: DwellGrowth::Exponential,
 };
 
