@@ -1534,9 +1534,10 @@ impl DwellRule {
 /// (`dwell_clock_probe fit 35110 --axes issue`: 1.91 % at best with it, 2.59 % with the
 /// body's clock, floor 0.39 %). An accumulating age on the contact's slip is not searched: it
 /// fitted as the body's does there (2.60 against 2.59 %) and would cost a fourth of the search.
-/// The core's aging law ([`DwellAge::Aging`], session 100) on the contact's slip (the body's speed until session 107), grown either
-/// way ([`DwellGrowth`]), comes last and is searched only where the model judged against leaves
-/// more than the measurement accounts for ([`rules`]). As a fourth rule searched everywhere it
+/// The core's aging law ([`DwellAge::Aging`], session 100) on the contact's slip (on the
+/// body's speed until session 107: [`STAGE_DWELL_RULE`]), grown either way ([`DwellGrowth`]),
+/// comes last and is searched only where the model judged against leaves more than the
+/// measurement accounts for ([`rules`]). As a fourth rule searched everywhere it
 /// brought never-run aging dwell records within 1.2x their floor on 11 of 20 against 3, but
 /// named dwell stiction on effect-free record 138 (wide axes, its model leaving 0.64x what
 /// the measurement accounts for; test `a_saturated_dwell_level_within_the_measurement_is_held`).
