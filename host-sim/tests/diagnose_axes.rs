@@ -1122,13 +1122,7 @@ fn a_dwell_stage_takes_the_aging_rule_where_the_contact_ages_by_it() {
         "{ranked_age:?}"
     );
     let ranked_err = ranked.rel_err_pct.unwrap();
-    let stage = d.last_stage();
-    let term = stage.fit.model.friction.effects.dwell_stiction.unwrap();
-    assert_eq!(
-        (term.age_at_stick, term.clock),
-        (DwellAge::Aging, DwellClock::ContactSlip)
-    );
-    let added = stage.fit.rel_err_pct;
+    let added = aged_on_the_contacts_slip(&d);
     assert!(
         added <= 0.8 * ranked_err && added <= 1.2 * floor,
         "{added:.2} % against the ranked {ranked_err:.2} % and the floor {floor:.2} %"
@@ -1147,17 +1141,24 @@ fn a_dwell_stage_takes_the_aging_rule_where_the_contact_ages_by_it() {
 fn a_dwell_stage_ages_its_junctions_on_the_contacts_slip() {
     let seed = 35631;
     let (d, floor) = aging_dwell_stage(seed);
-    let term = (d.last_stage().fit.model.friction.effects.dwell_stiction).unwrap();
+    let added = aged_on_the_contacts_slip(&d);
+    assert!(
+        added <= 1.2 * floor,
+        "{added:.3} % against the floor {floor:.3} %"
+    );
+}
+
+/// The last stage's dwell term ages by the aging law on the contact's slip
+/// (`STAGE_DWELL_RULE`); the stage's error \[%\].
+fn aged_on_the_contacts_slip(d: &diagnose::Diagnosis) -> f64 {
+    let stage = d.last_stage();
+    let term = stage.fit.model.friction.effects.dwell_stiction.unwrap();
     assert_eq!(
         (term.age_at_stick, term.clock),
         (DwellAge::Aging, DwellClock::ContactSlip),
         "{term:?}"
     );
-    let added = d.last_stage().fit.rel_err_pct;
-    assert!(
-        added <= 1.2 * floor,
-        "{added:.3} % against the floor {floor:.3} %"
-    );
+    stage.fit.rel_err_pct
 }
 
 /// The growth's form where a dwell term is added as a stage (session 103,
