@@ -43,6 +43,15 @@ pub enum Error {
     /// A parameter file asked of a diagnosis whose record does not determine the mass.
     #[error("the record does not determine the moving mass (its 95 % interval includes 0 kg); a controller needs it: give --mass KG")]
     MassNotDetermined,
+    /// A diagnosis's model a controller must not get (invalid or non-physical), with what its
+    /// fit says of it.
+    #[error("{problem}; {why}")]
+    ModelNotPhysical {
+        /// Which section and field, and why.
+        problem: InvalidParams,
+        /// The fitted values and the parameters the fit left at an edge.
+        why: String,
+    },
     /// Diagnosis across records with fewer than three records.
     #[error("diagnosis across records needs at least 3 records, got {0}")]
     TooFewRecords(usize),

@@ -1666,9 +1666,11 @@ pub fn prepare(
 
 /// The parameter file of a diagnosis's final model, with which values the record determined
 /// and which are priors. Refused, with the reason, when the record does not determine the
-/// moving mass a controller needs (give `user_mass`). The values themselves are checked when
-/// the file is written ([`crate::params_file::ParamFile::write_checked`], the core's
-/// `LugreParams::check_physical`), not here, so a benchmark can count non-physical results.
+/// moving mass a controller needs (give `user_mass`), and where the values fail the core's
+/// check (`LugreParams::check_physical`, as [`crate::params_file::ParamFile::write_checked`]
+/// does) as [`Error::ModelNotPhysical`], which says what the fit left at an edge of its range
+/// (session 108: until then the values were checked only where the file was written, and the
+/// refusal named the field alone; a benchmark counts that error as a non-physical result).
 pub fn parameter_file(
     d: &Diagnosis,
     user_mass: Option<f64>,
@@ -1691,7 +1693,40 @@ pub fn parameter_file(
         .filter(|n| !(priors.contains(n) || (n == Param::Mass.label() && user_mass.is_some())))
         .collect();
     file.fit.not_identifiable = priors;
+    // refused here, not only where it is written, so the refusal can say what the fit did
+    file.model().map_err(|problem| Error::ModelNotPhysical {
+        problem,
+        why: not_physical_why(last),
+    })?;
     Ok(file)
+}
+
+/// What a refused model's fit says of itself ([`Error::ModelNotPhysical`]): the fitted
+/// contact's values, and each parameter the fit left at the edge of its physical range (a
+/// parameter the record does not determine stays where the search stopped).
+fn not_physical_why(last: &Fit) -> String {
+    let q = last.model.friction.params;
+    let mut why = format!(
+        "the fitted model has Fc {:.3} N, Fs {:.3} N, sigma2 {:.1} N s/m, vs {:.3} mm/s, sigma0 {:.3e} N/m, sigma1 {:.3e} N s/m",
+        q.coulomb_force(),
+        q.static_force(),
+        q.viscous_coefficient(),
+        q.stribeck_velocity() * 1e3,
+        q.bristle_stiffness(),
+        q.bristle_damping()
+    );
+    let edges: Vec<&str> = last.at_bound.iter().map(|p| p.label()).collect();
+    why += &match edges.as_slice() {
+        [] => String::new(),
+        [one] => format!(
+            "; {one} ended at the edge of its physical range: the record does not determine it"
+        ),
+        more => format!(
+            "; {} ended at the edges of their physical ranges: the record does not determine them",
+            more.join(" and ")
+        ),
+    };
+    why
 }
 
 /// Error of a fitted model on another record (no refit) [%].
