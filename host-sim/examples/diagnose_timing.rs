@@ -15,7 +15,10 @@
 //! Maxwell-slip contact under the same axes (`generators::axis::Maxwell`); `--axes issue` times
 //! the axes issue 9 describes (`generators::axis::Axes::Issue`). Generating a record is not
 //! timed. The machine is noisy: compare two builds by running them one after another on the
-//! same records, not against a number.
+//! same records, not against a number. Each row also counts the samples the diagnosis
+//! simulated (`Msamples`, millions; `simulated_samples` in the JSON,
+//! `diagnose::inverse::simulated_samples`): most of its work, the same on any machine under
+//! any load (session 108: the wall clock moved by 20..50 % between runs of one build).
 //!
 //! `diagnose_timing --compare A1.json,A2.json B1.json,B2.json` compares two builds' runs
 //! (each a comma-separated list of `--json` files, interleaved runs of one build) record by
@@ -31,7 +34,7 @@
 mod generators;
 
 use generators::axis::{random_record_of, Axes, ContactKind, DwellLaw, Family, Sensors, EFFECTS};
-use host_sim::diagnose::{self, Options};
+use host_sim::diagnose::{self, inverse, Options};
 use host_sim::record::Record;
 use std::path::Path;
 use std::time::Instant;
@@ -45,6 +48,9 @@ struct Row {
     seed: u64,
     /// parse and diagnose, wall clock \[s\]
     seconds: f64,
+    /// samples the diagnosis simulated (`inverse::simulated_samples`): its cost counted, the
+    /// same on any machine under any load
+    simulated_samples: u64,
     /// times the baseline was replaced by a better start (`diagnose::Restart`)
     restarts: usize,
     /// the first significant candidate, if any
@@ -109,8 +115,8 @@ fn main() {
         seeds = (1000..=1004).collect();
     }
     println!(
-        "{:<24} {:>5} {:>8} {:>8} {:>8} {:>8} {:>8}  first significant",
-        "record", "seed", "seconds", "baseline", "cands", "nested", "restarts"
+        "{:<24} {:>5} {:>8} {:>8} {:>8} {:>8} {:>8} {:>9}  first significant",
+        "record", "seed", "seconds", "baseline", "cands", "nested", "restarts", "Msamples"
     );
     let mut rows = Vec::new();
     for &seed in &seeds {
@@ -119,25 +125,29 @@ fn main() {
             let (text, _) = random_record_of(effect, seed, sensors, contact, Family::A, axes, law);
             let path = format!("{name}-{seed}.csv");
             let start = Instant::now();
+            let simulated_before = inverse::simulated_samples();
             let rec = Record::parse(&text, Path::new(&path)).expect("a generated record parses");
             let d = diagnose::diagnose(&rec, &path, &Options::default()).expect("diagnosis");
             let seconds = start.elapsed().as_secs_f64();
+            let simulated_samples = inverse::simulated_samples() - simulated_before;
             let first_significant = d.stages[0]
                 .first_significant()
                 .map(|c| c.kind.name().to_string());
             let restarts = d.stages[0].restarts.len();
             let t = d.times;
             println!(
-                "{name:<24} {seed:>5} {seconds:>8.2} {:>8.2} {:>8.2} {:>8.2} {restarts:>8}  {}",
+                "{name:<24} {seed:>5} {seconds:>8.2} {:>8.2} {:>8.2} {:>8.2} {restarts:>8} {:>9.1}  {}",
                 t.first_baseline_s + t.baseline_s,
                 t.candidates_s,
                 t.nested_s,
+                simulated_samples as f64 * 1e-6,
                 first_significant.as_deref().unwrap_or("-")
             );
             rows.push(Row {
                 effect: name.into(),
                 seed,
                 seconds,
+                simulated_samples,
                 restarts,
                 first_significant,
                 phases: t,

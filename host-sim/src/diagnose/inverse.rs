@@ -643,6 +643,18 @@ pub struct AxisModel {
 /// minute-long records a diagnosis fits hundreds of times. (Not tuned: the 60 s records split.)
 const MIN_SPLIT_SAMPLES: usize = 4000;
 
+/// Samples simulated by every [`AxisModel`] simulation in this process so far: a diagnosis's
+/// cost counted, not timed. The same work gives the same count on any machine and under any
+/// load, where the wall clock of a shared machine moves by tens of per cent between runs of
+/// one build (session 108); a simulation is most of a diagnosis's work.
+static SIMULATED_SAMPLES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// [`SIMULATED_SAMPLES`]: the samples simulated in this process so far (read it before and
+/// after a diagnosis; the difference is that diagnosis's count where nothing else runs).
+pub fn simulated_samples() -> u64 {
+    SIMULATED_SAMPLES.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 /// What the friction model did along the measured motion (from
 /// [`AxisModel::friction_with_decay`], the friction alone, the other fields empty).
 #[derive(Clone, Debug, Default)]
@@ -733,6 +745,7 @@ impl AxisModel {
         outputs: Outputs,
     ) -> Simulation {
         let n = p.len();
+        SIMULATED_SAMPLES.fetch_add(n as u64, std::sync::atomic::Ordering::Relaxed);
         let extra = match outputs {
             Outputs::All => n,
             Outputs::FrictionOnly => 0,
