@@ -643,14 +643,14 @@ pub struct AxisModel {
 /// minute-long records a diagnosis fits hundreds of times. (Not tuned: the 60 s records split.)
 const MIN_SPLIT_SAMPLES: usize = 4000;
 
-/// Samples simulated by every [`AxisModel`] simulation in this process so far: a diagnosis's
-/// cost counted, not timed. The same work gives the same count on any machine and under any
-/// load, where the wall clock of a shared machine moves by tens of per cent between runs of
-/// one build (session 108); a simulation is most of a diagnosis's work.
+/// The count [`simulated_samples`] reads.
 static SIMULATED_SAMPLES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
-/// [`SIMULATED_SAMPLES`]: the samples simulated in this process so far (read it before and
-/// after a diagnosis; the difference is that diagnosis's count where nothing else runs).
+/// The samples every [`AxisModel`] simulation in this process has run so far: a diagnosis's
+/// cost counted, not timed (read it before and after a diagnosis; the difference is that
+/// diagnosis's count where nothing else runs). The same work gives the same count on any
+/// machine under any load, where the wall clock of a shared machine moved by 20..50 % between
+/// runs of one build (session 108); a simulation is most of a diagnosis's work.
 pub fn simulated_samples() -> u64 {
     SIMULATED_SAMPLES.load(std::sync::atomic::Ordering::Relaxed)
 }
