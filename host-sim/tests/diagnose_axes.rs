@@ -476,7 +476,8 @@ fn a_model_refused_for_a_controller_says_what_its_fit_left_at_an_edge() {
     let why = diagnose::parameter_file(&d, None).unwrap_err().to_string();
     assert!(
         why.starts_with("[lugre] static_force (Fs) [N] is outside the physical range")
-            && why.contains("the fitted model has Fc 0.000 N")
+            && why.contains("the fitted model has M ")
+            && why.contains(", Fc 0.000 N,")
             && why.contains("coulomb_force_n")
             && why.contains("the record does not determine"),
         "{why}"

@@ -414,22 +414,12 @@ pub fn print_text(d: &Diagnosis, validation: Option<f64>, wall_s: f64) {
     );
     for (i, s) in d.stages.iter().enumerate() {
         let m = &s.fit.model;
-        let p = &m.friction.params;
         println!(
             "\n-- {} : relative force error {:.2} % (every moving sample alike {:.2} %) --",
             s.label, s.fit.rel_err_pct, s.plain_rel_err_pct
         );
         if i == 0 {
-            println!(
-                "   M {:.2} kg, Fc {:.3} N, Fs {:.3} N, sigma2 {:.1} N s/m, sigma1 {:.3e} N s/m, vs {:.2} mm/s, sigma0 {:.3e} N/m",
-                m.mass_kg,
-                p.coulomb_force(),
-                p.static_force(),
-                p.viscous_coefficient(),
-                p.bristle_damping(),
-                p.stribeck_velocity() * 1e3,
-                p.bristle_stiffness()
-            );
+            println!("   {}", diagnose::contact_values(m));
         }
         // the dwell term a stage added: its rule may be the stage's own (the aging law), which
         // no candidate line shows

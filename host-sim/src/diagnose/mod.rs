@@ -1701,20 +1701,28 @@ pub fn parameter_file(
     Ok(file)
 }
 
+/// A model's moving mass and contact values, as the text output prints a baseline and a
+/// refused model's error names them: `M .. kg, Fc .. N, Fs .. N, sigma2 .. N s/m, sigma1 ..
+/// N s/m, vs .. mm/s, sigma0 .. N/m`.
+pub fn contact_values(m: &AxisModel) -> String {
+    let p = &m.friction.params;
+    format!(
+        "M {:.2} kg, Fc {:.3} N, Fs {:.3} N, sigma2 {:.1} N s/m, sigma1 {:.3e} N s/m, vs {:.2} mm/s, sigma0 {:.3e} N/m",
+        m.mass_kg,
+        p.coulomb_force(),
+        p.static_force(),
+        p.viscous_coefficient(),
+        p.bristle_damping(),
+        p.stribeck_velocity() * 1e3,
+        p.bristle_stiffness()
+    )
+}
+
 /// What a refused model's fit says of itself ([`Error::ModelNotPhysical`]): the fitted
 /// contact's values, and each parameter the fit left at the edge of its physical range (a
 /// parameter the record does not determine stays where the search stopped).
 fn not_physical_why(last: &Fit) -> String {
-    let q = last.model.friction.params;
-    let mut why = format!(
-        "the fitted model has Fc {:.3} N, Fs {:.3} N, sigma2 {:.1} N s/m, vs {:.3} mm/s, sigma0 {:.3e} N/m, sigma1 {:.3e} N s/m",
-        q.coulomb_force(),
-        q.static_force(),
-        q.viscous_coefficient(),
-        q.stribeck_velocity() * 1e3,
-        q.bristle_stiffness(),
-        q.bristle_damping()
-    );
+    let mut why = format!("the fitted model has {}", contact_values(&last.model));
     let edges: Vec<&str> = last.at_bound.iter().map(|p| p.label()).collect();
     why += &match edges.as_slice() {
         [] => String::new(),
