@@ -45,6 +45,9 @@
 //! `--seeds` form, to rerun exactly those, and so are the records whose force the diagnosis read
 //! other than logged or given (`diagnose::choose_force_reading`); each JSON row carries the
 //! reading asked and the one used (`force_skew_asked`, `force_skew_samples`).
+//! The last line counts the samples every model simulation of the run simulated
+//! (`diagnose::inverse::simulated_samples`): the suite's work, deterministic, so two builds'
+//! costs compare on it where the wall clock of a noisy machine cannot (session 109).
 
 #[path = "../tests/generators/mod.rs"]
 mod generators;
@@ -550,10 +553,13 @@ fn main() {
             .join(",")
     );
     per_set(&rows);
+    // the suite's work counted (every diagnosis, stage and floor of every record): the same
+    // on any machine under any load and however the records were spread over the threads
     println!(
-        "({} records, {:.0} s)",
+        "({} records, {:.0} s, {:.1} M samples simulated)",
         rows.len(),
-        wall.elapsed().as_secs_f64()
+        wall.elapsed().as_secs_f64(),
+        diagnose::inverse::simulated_samples() as f64 / 1e6
     );
     calibration_curve(&rows);
     if let Some(path) = json {
