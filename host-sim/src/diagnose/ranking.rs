@@ -1587,20 +1587,27 @@ fn fit_from_table(out: &mut [Candidate], leader: Option<usize>, on: &Scope, refe
     }
 }
 
-/// The static table start for a record nothing explains: where no candidate is significant,
-/// the current model leaves more than the measurement accounts for
-/// ([`Unexplained::beyond_measurement`]), and the leading candidate is one the asymmetric
-/// static table spans ([`TABLE_SPANNED`]), those candidates are fitted from the table too
+/// The static table start for a record nothing explains: where no candidate is significant
+/// and the current model leaves more than the measurement accounts for
+/// ([`Unexplained::beyond_measurement`]), the candidates the asymmetric static table spans
+/// ([`TABLE_SPANNED`]) and the leading candidate are fitted from the table too
 /// ([`fit_from_table`]) whatever the table's own error, judged again, and the nested pair
 /// checked again (`prefer_nested`). [`table_start`] fires where a candidate errs more than the
-/// table; a missing asymmetry can bend the baseline so far that the table, which has no
+/// table; a missing effect can bend the baseline so far that the table, which has no
 /// Stribeck curve, errs as much as the bent candidates (asymmetry record 34280, issue's axes,
 /// never-run in session 98's issue table, where it named nothing; static ratio 0.86: the
 /// baseline at 19.93 % with `Fs` 817 N and `vs` 0.63 mm/s, the offset and asymmetry
 /// candidates at 16.15 and 16.23 %, cuts of 19 %, the table 16.69 %, and the asymmetry as a
-/// stage 0.98 % against a floor of 0.83 %). Only where nothing else answers, so
-/// the cost (two stage fits and a nested check) falls on records that would name nothing: no
-/// effect-free record of session 98's fifty left more than the measurement accounts for.
+/// stage 0.98 % against a floor of 0.83 %). The leader whatever its effect, since session 108:
+/// until then only a leader the table spans, and Stribeck record 34959 (issue's axes,
+/// never-run in session 107's table M, where it named nothing) bent the baseline to `Fc` 0
+/// and 10 440 N s/m for 946 (its motion stays under 15 mm/s, vs 8.6 mm/s): its leading
+/// Stribeck candidate stopped at 1.96 % from the model (cut 35 %, dBIC 6.9 on a residual with
+/// few independent samples) and reaches 0.81 % from the table, as its stage does
+/// ([`from_static_table`] is the stage's second start). Only where nothing else answers, so
+/// the cost (up to three stage fits and a nested check) falls on records that would name
+/// nothing: no effect-free record of session 98's fifty left more than the measurement
+/// accounts for.
 fn table_start_where_unexplained(out: &mut Vec<Candidate>, on: &Scope, current: &Fit) {
     if out.iter().any(|c| c.significant) {
         return;
@@ -1609,15 +1616,16 @@ fn table_start_where_unexplained(out: &mut Vec<Candidate>, on: &Scope, current: 
     let Some(lead) = out.first() else {
         return;
     };
-    if !TABLE_SPANNED.contains(&lead.kind) || lead.fit.is_none() {
+    if lead.fit.is_none() {
         return;
     }
     let reference = Current::new(current, on);
     if !reference.beyond_measurement {
         return;
     }
-    // (the leader is one of the candidates the table spans: no leader of its own)
-    fit_from_table(out, None, on, &reference);
+    // (a leader the table spans is fitted from it with the others it spans)
+    let leader = (!TABLE_SPANNED.contains(&lead.kind)).then_some(0);
+    fit_from_table(out, leader, on, &reference);
     *out = judge_all(std::mem::take(out), on, &reference);
     prefer_nested(out, on, current);
 }
@@ -1625,7 +1633,7 @@ fn table_start_where_unexplained(out: &mut Vec<Candidate>, on: &Scope, current: 
 /// What a candidate [`Candidate::from_static_table`] says of itself in the text output and the
 /// report.
 pub const FROM_STATIC_TABLE: &str =
-    "an offset or asymmetry candidate fitted from the model erred more than the asymmetric static table, or led a record nothing explained: the offset, the asymmetry and the leading candidate fitted from the table too, and this one's start fitted better";
+    "an offset or asymmetry candidate fitted from the model erred more than the asymmetric static table, or the model left more than the measurement accounts for and nothing explained it: the offset, the asymmetry and the leading candidate fitted from the table too, and this one's start fitted better";
 
 /// [`stage_fit`]'s second start: the static table with the candidate's effects, refitted and
 /// searched as a stage is (two rounds, the stiffness too).
