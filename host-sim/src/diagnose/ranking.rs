@@ -1607,7 +1607,9 @@ fn fit_from_table(out: &mut [Candidate], leader: Option<usize>, on: &Scope, refe
 /// ([`from_static_table`] is the stage's second start). Only where nothing else answers, so
 /// the cost (up to three stage fits and a nested check) falls on records that would name
 /// nothing: no effect-free record of session 98's fifty left more than the measurement
-/// accounts for.
+/// accounts for. Where a Maxwell-slip contact stands under the record (a wrong model) most do,
+/// and there it fires: on 40 used such effect-free records no false positive, the leaders'
+/// cuts up by at most 0.018 (session 108).
 fn table_start_where_unexplained(out: &mut Vec<Candidate>, on: &Scope, current: &Fit) {
     if out.iter().any(|c| c.significant) {
         return;
