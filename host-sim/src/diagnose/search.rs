@@ -516,7 +516,17 @@ fn refine_effect(current: &Fit, e: EffectKind, on: Fitting<'_>) -> Option<Fit> {
     let base = current.model;
     let ln_of = |f: &Fit| nonlinear_value(&f.model, e).map_or(value.ln(), f64::ln);
     let eval = |lx: f64| on.refit_quick(&fit::add_effect(&base, e, on.p, lx.exp()));
-    let refined = refine(current, widest / 2.0, (llo, lhi), eval, ln_of);
+    let mut refined = refine(current, widest / 2.0, (llo, lhi), eval, ln_of);
+    // the second shape parameter (the dwell's renewal distance, the Stribeck tail's scale)
+    // refined the same way from there, then the first once more: the two trade against each
+    // other, and each was left on or near a grid point of its own
+    if let Some(shaped) = refine_shape(&refined, e, on) {
+        let value = nonlinear_value(&shaped.model, e).unwrap_or(value);
+        let base = shaped.model;
+        let ln_of = |f: &Fit| nonlinear_value(&f.model, e).map_or(value.ln(), f64::ln);
+        let eval = |lx: f64| on.refit_quick(&fit::add_effect(&base, e, on.p, lx.exp()));
+        refined = refine(&shaped, widest / 2.0, (llo, lhi), eval, ln_of);
+    }
     if refined.rss >= current.rss {
         return None;
     }
@@ -525,6 +535,25 @@ fn refine_effect(current: &Fit, e: EffectKind, on: Fitting<'_>) -> Option<Fit> {
         f.flags = current.flags.clone();
         f
     })
+}
+
+/// The fit with effect `e`'s second shape parameter ([`super::EffectInfo::shape`]: the dwell's
+/// renewal distance, the Stribeck tail's scale) refined continuously in ln between its grid's
+/// ends ([`refine`], from half the grid's widest step; the linear parameters refitted at each
+/// point): `Some` only where that lowers the residual, and where the model holds the parameter
+/// ([`fit::shape_value`]).
+fn refine_shape(current: &Fit, e: EffectKind, on: Fitting<'_>) -> Option<Fit> {
+    let (_, grid) = effect_info(e).shape?;
+    let value = fit::shape_value(&current.model, e).filter(|v| *v > 0.0)?;
+    let (llo, lhi) = (grid.first()?.ln(), grid.last()?.ln());
+    let widest = (grid.windows(2))
+        .map(|w| (w[1] / w[0]).ln())
+        .fold(0.0f64, f64::max);
+    let base = current.model;
+    let ln_of = |f: &Fit| fit::shape_value(&f.model, e).map_or(value.ln(), f64::ln);
+    let eval = |lx: f64| on.refit_quick(&fit::with_shape(&base, e, lx.exp()));
+    let refined = refine(current, widest / 2.0, (llo, lhi), eval, ln_of);
+    (refined.rss < current.rss).then_some(refined)
 }
 
 /// What each step of a [`polish`] found, and from which start: a step is a function of the
