@@ -484,6 +484,33 @@ fn a_model_refused_for_a_controller_says_what_its_fit_left_at_an_edge() {
     );
 }
 
+/// A linear parameter that ends on an edge of its physical range is said to, in a candidate's
+/// list as in the model table, and its interval stays within that range (session 109). On
+/// Stribeck record 34959 the baseline's Coulomb level is zero, so the asymmetry candidate's
+/// Coulomb ratio scales nothing: it ended at -0.95 with an interval of +-2.5e10, shown as
+/// fitted.
+#[test]
+#[ignore = "expensive suite: cargo test --workspace -- --ignored"]
+fn a_ratio_the_record_does_not_determine_is_shown_at_its_physical_edge() {
+    let d = diagnose_on_issue_axes("stribeck_shape", 34959);
+    let asym = (d.stages[0].candidates.iter())
+        .find(|c| c.kind.name() == "asymmetry")
+        .unwrap();
+    let q = (asym.parameters.iter())
+        .find(|q| q.name == "coulomb_ratio")
+        .unwrap();
+    // the premise: the ratio of a zero Coulomb level, at its bound
+    assert!(q.value.abs() > 0.949, "{q:?}\n{}", report(&d));
+    assert!(q.at_physical_edge, "{q:?}");
+    assert!(q.ci_low >= -0.95 && q.ci_high <= 0.95, "{q:?}");
+    let texts = asym.parameter_texts();
+    assert!(
+        texts.iter().any(|t| t.starts_with("coulomb_ratio")
+            && t.ends_with("(at the edge of its physical range)")),
+        "{texts:?}"
+    );
+}
+
 /// A record nothing explains has its leading candidate fitted from the static table whatever
 /// its effect (`table_start_where_unexplained`, session 108). On Stribeck record 34959
 /// (issue's axes; never-run in session 107's table M, where it named nothing) the motion stays

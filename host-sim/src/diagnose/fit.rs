@@ -555,11 +555,8 @@ impl Bounds {
             Param::Static => (0.0, (self.force - self.coulomb).max(0.0)),
             Param::Viscous => (0.0, self.viscous),
             Param::BristleDamping => (0.0, self.damping),
-            Param::AsymCoulomb | Param::AsymStatic | Param::AsymViscous => (-0.95, 0.95),
             Param::Offset => (-self.force, self.force),
-            Param::LoadStaticShare => (-LOAD_STATIC_SHARE_BOUND, LOAD_STATIC_SHARE_BOUND),
-            Param::StribeckTailShare => (0.0, 1.0),
-            _ => (f64::NEG_INFINITY, f64::INFINITY),
+            _ => fixed_range(param).unwrap_or((f64::NEG_INFINITY, f64::INFINITY)),
         }
     }
 
@@ -581,6 +578,20 @@ impl Bounds {
             }
             _ => value <= lo + tol || value >= hi - tol,
         }
+    }
+}
+
+/// The physical range of a parameter where it is the same on every record (the asymmetry's
+/// ratios in `[-0.95, 0.95]`, a load's static share, a Stribeck tail's share in `[0, 1]`);
+/// `None` where it scales with the record's forces and speeds ([`Bounds::range`]). A linear
+/// interval is shown within it: a ratio the record does not determine (the Coulomb ratio of a
+/// model whose Coulomb level is zero) has a standard error of 1e10.
+pub fn fixed_range(param: Param) -> Option<(f64, f64)> {
+    match param {
+        Param::AsymCoulomb | Param::AsymStatic | Param::AsymViscous => Some((-0.95, 0.95)),
+        Param::LoadStaticShare => Some((-LOAD_STATIC_SHARE_BOUND, LOAD_STATIC_SHARE_BOUND)),
+        Param::StribeckTailShare => Some((0.0, 1.0)),
+        _ => None,
     }
 }
 

@@ -313,6 +313,11 @@ pub struct ParamReport {
     /// the data may want a value beyond it (reported, never silent).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub at_search_edge: bool,
+    /// A linear parameter that ended on an edge of its physical range ([`fit::Bounds`],
+    /// [`fit::Fit::at_bound`]): the data pushed it against physics, or the record does not
+    /// determine it (reported, never silent).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub at_physical_edge: bool,
 }
 
 /// The 95 % profile-likelihood interval of a searched parameter around its best value `best`:
@@ -636,6 +641,8 @@ impl Candidate {
             .chain(self.parameters.iter().map(|q| {
                 let edge = if q.at_search_edge {
                     " (at the edge of its search range)"
+                } else if q.at_physical_edge {
+                    " (at the edge of its physical range)"
                 } else {
                     ""
                 };

@@ -790,6 +790,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                     ci_low: lo,
                     ci_high: hi,
                     at_search_edge: effect_on_edge(info, grid, x),
+                    at_physical_edge: false,
                 });
                 if let (Some((shape_name, shape_grid)), Some(v)) =
                     (info.shape, fit::shape_value(&f.model, info.kind))
@@ -801,6 +802,7 @@ fn score(on: &Scope, current: &Current, info: &EffectInfo) -> Candidate {
                         ci_low: lo,
                         ci_high: hi,
                         at_search_edge: on_edge(shape_grid, v),
+                        at_physical_edge: false,
                     });
                 }
                 SearchedFit {
@@ -1044,12 +1046,15 @@ fn judge(
             if joint.is_none() && presence.contains(prm) {
                 linear_excludes |= e.value.abs() > half;
             }
+            // shown within the range the parameter cannot leave
+            let (lo, hi) = fit::fixed_range(*prm).unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
             parameters.push(ParamReport {
                 name: prm.label().into(),
                 value: e.value,
-                ci_low: e.value - half,
-                ci_high: e.value + half,
+                ci_low: (e.value - half).max(lo),
+                ci_high: (e.value + half).min(hi),
                 at_search_edge: false,
+                at_physical_edge: fit.at_bound.contains(prm),
             });
         }
     }

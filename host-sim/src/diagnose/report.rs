@@ -546,6 +546,10 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
                 format!(
                     "at the edge of its search range{range}: the fit may want a value beyond it"
                 )
+            } else if fit.at_bound.iter().any(|q| q.label() == key) {
+                "at the edge of its physical range: the data pushed it against physics, or the \
+                 record does not determine it"
+                    .into()
             } else if estimate.is_some() {
                 "fitted".into()
             } else if searched {
@@ -1008,6 +1012,54 @@ mod tests {
         );
     }
 
+    /// A linear parameter that ended on an edge of its physical range (`Fit::at_bound`: a
+    /// Coulomb level of zero, session 109) is not shown as fitted, in the model table and in a
+    /// candidate's list; one inside its range is.
+    #[test]
+    fn a_linear_parameter_at_its_physical_edge_is_not_shown_as_fitted() {
+        use crate::diagnose::fit::{Estimate, Param};
+        use crate::diagnose::{effect_info, ParamReport};
+        use lugre_servo::friction::EffectKind;
+        let mut fit = fit_with_viscous_exponent(1.15);
+        fit.estimates = [Param::Coulomb, Param::Viscous]
+            .map(|param| Estimate {
+                param,
+                value: 0.0,
+                std_error: 5.0,
+            })
+            .to_vec();
+        fit.at_bound = vec![Param::Coulomb];
+        let rows = model_rows(&fit);
+        let edge = status(&rows, "lugre", "coulomb_force_n");
+        assert!(
+            edge.starts_with("at the edge of its physical range"),
+            "{edge}"
+        );
+        assert_eq!(
+            status(&rows, "lugre", "viscous_coefficient_n_s_per_m"),
+            "fitted"
+        );
+        let mut asym = Candidate::unscored(effect_info(EffectKind::Asymmetry));
+        let param = |name: &str, value: f64, at_physical_edge: bool| ParamReport {
+            name: name.into(),
+            value,
+            ci_low: -0.95,
+            ci_high: 0.95,
+            at_search_edge: false,
+            at_physical_edge,
+        };
+        asym.parameters = vec![
+            param("coulomb_ratio", -0.95, true),
+            param("static_ratio", 0.02, false),
+        ];
+        let texts = asym.parameter_texts();
+        assert!(
+            texts[0].ends_with("(at the edge of its physical range)"),
+            "{texts:?}"
+        );
+        assert!(!texts[1].contains("edge"), "{texts:?}");
+    }
+
     /// The report's candidate table says where a candidate's parameter ended at the edge of
     /// its search range, as the CLI's list does (both take `Candidate::parameter_texts`), and
     /// only there; a dwell candidate's age rule and clock are listed with its parameters.
@@ -1021,6 +1073,7 @@ mod tests {
             ci_low: value,
             ci_high: value,
             at_search_edge,
+            at_physical_edge: false,
         };
         let mut load = Candidate::unscored(effect_info(EffectKind::LoadDependence));
         load.parameters = vec![param("terms", 4.0, true), param("static_share", 1.0, false)];
