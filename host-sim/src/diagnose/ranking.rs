@@ -1603,7 +1603,8 @@ fn fit_from_table(out: &mut [Candidate], leader: Option<usize>, on: &Scope, refe
 /// never-run in session 98's issue table, where it named nothing; static ratio 0.86: the
 /// baseline at 19.93 % with `Fs` 817 N and `vs` 0.63 mm/s, the offset and asymmetry
 /// candidates at 16.15 and 16.23 %, cuts of 19 %, the table 16.69 %, and the asymmetry as a
-/// stage 0.98 % against a floor of 0.83 %). The leader whatever its effect, since session 108:
+/// stage 0.98 % against a floor of 0.83 %). The leader whatever its effect, since session 109
+/// (judged in session 108, adopted on its counted cost in 109):
 /// until then only a leader the table spans, and Stribeck record 34959 (issue's axes,
 /// never-run in session 107's table M, where it named nothing) bent the baseline to `Fc` 0
 /// and 10 440 N s/m for 946 (its motion stays under 15 mm/s, vs 8.6 mm/s): its leading

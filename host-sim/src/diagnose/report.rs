@@ -513,10 +513,13 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
             };
             let interval = estimate.map_or(String::new(), |e| {
                 let h = 1.96 * e.std_error;
+                // within the range the parameter cannot leave, as a candidate's list shows it
+                let (lo, hi) =
+                    super::fit::fixed_range(e.param).unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
                 format!(
                     "{}{NBSP}..{NBSP}{}",
-                    crate::timing::sig3(e.value - h),
-                    crate::timing::sig3(e.value + h)
+                    crate::timing::sig3((e.value - h).max(lo)),
+                    crate::timing::sig3((e.value + h).min(hi))
                 )
             });
             let value = match value {
@@ -1030,6 +1033,29 @@ mod tests {
             .to_vec();
         fit.at_bound = vec![Param::Coulomb];
         let rows = model_rows(&fit);
+        // an asymmetry ratio the record does not determine: its interval within its range
+        let mut asym_fit = fit.clone();
+        asym_fit.model.friction.effects.asymmetry = Some(fx::Asymmetry {
+            coulomb_ratio: -0.95,
+            static_ratio: 0.0,
+            viscous_ratio: 0.0,
+            stribeck_velocity_ratio: 0.0,
+        });
+        asym_fit.estimates.push(Estimate {
+            param: Param::AsymCoulomb,
+            value: -0.95,
+            std_error: 1e10,
+        });
+        asym_fit.at_bound.push(Param::AsymCoulomb);
+        let asym_rows = model_rows(&asym_fit);
+        let row = (asym_rows.iter())
+            .find(|r| r[0] == "effects.asymmetry" && r[1] == "coulomb_ratio")
+            .unwrap_or_else(|| panic!("{asym_rows:?}"));
+        assert_eq!(row[3], format!("-0.95{NBSP}..{NBSP}0.95"), "{row:?}");
+        assert!(
+            row[4].starts_with("at the edge of its physical range"),
+            "{row:?}"
+        );
         let edge = status(&rows, "lugre", "coulomb_force_n");
         assert!(
             edge.starts_with("at the edge of its physical range"),
