@@ -470,10 +470,10 @@ fn an_asymmetry_nothing_else_explains_is_fitted_from_the_static_table() {
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_model_refused_for_a_controller_says_what_its_fit_left_at_an_edge() {
-    let d = diagnose_on_issue_axes("stribeck_shape", 34959);
+    let d = stribeck_34959();
     let coulomb = d.model().friction.params.coulomb_force();
-    assert!(coulomb < 1.0, "Fc {coulomb} N\n{}", report(&d));
-    let why = diagnose::parameter_file(&d, None).unwrap_err().to_string();
+    assert!(coulomb < 1.0, "Fc {coulomb} N\n{}", report(d));
+    let why = diagnose::parameter_file(d, None).unwrap_err().to_string();
     assert!(
         why.starts_with("[lugre] static_force (Fs) [N] is outside the physical range")
             && why.contains("the fitted model has M ")
@@ -492,7 +492,7 @@ fn a_model_refused_for_a_controller_says_what_its_fit_left_at_an_edge() {
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_ratio_the_record_does_not_determine_is_shown_at_its_physical_edge() {
-    let d = diagnose_on_issue_axes("stribeck_shape", 34959);
+    let d = stribeck_34959();
     let asym = (d.stages[0].candidates.iter())
         .find(|c| c.kind.name() == "asymmetry")
         .unwrap();
@@ -500,7 +500,7 @@ fn a_ratio_the_record_does_not_determine_is_shown_at_its_physical_edge() {
         .find(|q| q.name == "coulomb_ratio")
         .unwrap();
     // the premise: the ratio of a zero Coulomb level, at its bound
-    assert!(q.value.abs() > 0.949, "{q:?}\n{}", report(&d));
+    assert!(q.value.abs() > 0.949, "{q:?}\n{}", report(d));
     assert!(q.at_physical_edge, "{q:?}");
     assert!(q.ci_low >= -0.95 && q.ci_high <= 0.95, "{q:?}");
     let texts = asym.parameter_texts();
@@ -520,23 +520,23 @@ fn a_ratio_the_record_does_not_determine_is_shown_at_its_physical_edge() {
 #[test]
 #[ignore = "expensive suite: cargo test --workspace -- --ignored"]
 fn a_leader_nothing_else_explains_is_fitted_from_the_static_table_whatever_its_effect() {
-    let d = diagnose_on_issue_axes("stribeck_shape", 34959);
+    let d = stribeck_34959();
     let base = &d.stages[0];
     let c = &base.candidates;
     assert_eq!(
         first_significant(c),
         Some("stribeck_shape"),
         "{}",
-        report(&d)
+        report(d)
     );
     let named = c
         .iter()
         .find(|c| c.kind.name() == "stribeck_shape")
         .unwrap();
-    assert!(named.from_static_table, "{}", report(&d));
+    assert!(named.from_static_table, "{}", report(d));
     // the premise: the baseline's Coulomb level bent to the bottom of its range
     let coulomb = base.fit.model.friction.params.coulomb_force();
-    assert!(coulomb < 1.0, "Fc {coulomb} N\n{}", report(&d));
+    assert!(coulomb < 1.0, "Fc {coulomb} N\n{}", report(d));
     // from the table the candidate explains most of what the baseline left, as its stage does
     let err = named.rel_err_pct.unwrap();
     assert!(err < 0.4 * base.fit.rel_err_pct, "{err:.2} %");
@@ -803,6 +803,15 @@ fn a_dwell_term_that_a_contact_describes_better_is_held() {
         html.contains("describes what it leaves better"),
         "the report names the rule"
     );
+}
+
+/// Stribeck record 34959 on the issue's axes (its motion under 15 mm/s, the baseline's Coulomb
+/// level at zero), diagnosed once for the three tests that read it: the table start, the
+/// refusal of its baseline, the ratio at its physical edge.
+fn stribeck_34959() -> &'static Diagnosis {
+    static D: std::sync::LazyLock<Diagnosis> =
+        std::sync::LazyLock::new(|| diagnose_on_issue_axes("stribeck_shape", 34959));
+    &D
 }
 
 /// [`diagnose`] of a record on the axes issue 9 describes (`Axes::Issue`).

@@ -124,6 +124,17 @@ pub struct Estimate {
     pub std_error: f64,
 }
 
+impl Estimate {
+    /// The 95 % interval, `value +- 1.96 std_error`, within the range the parameter cannot
+    /// leave where that is the same on every record ([`fixed_range`]): what the candidate
+    /// lists and the report's model table show.
+    pub fn interval_95(&self) -> (f64, f64) {
+        let half = 1.96 * self.std_error;
+        let (lo, hi) = fixed_range(self.param).unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+        ((self.value - half).max(lo), (self.value + half).min(hi))
+    }
+}
+
 /// Result of a refit.
 #[derive(Clone, Debug)]
 pub struct Fit {
@@ -585,7 +596,7 @@ impl Bounds {
 /// ratios in `[-0.95, 0.95]`, a load's static share, a Stribeck tail's share in `[0, 1]`);
 /// `None` where it scales with the record's forces and speeds ([`Bounds::range`]). A linear
 /// interval is shown within it: a ratio the record does not determine (the Coulomb ratio of a
-/// model whose Coulomb level is zero) has a standard error of 1e10.
+/// model whose Coulomb level is zero) has a standard error of 1e10 ([`Estimate::interval_95`]).
 pub fn fixed_range(param: Param) -> Option<(f64, f64)> {
     match param {
         Param::AsymCoulomb | Param::AsymStatic | Param::AsymViscous => Some((-0.95, 0.95)),

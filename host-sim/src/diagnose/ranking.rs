@@ -1046,13 +1046,12 @@ fn judge(
             if joint.is_none() && presence.contains(prm) {
                 linear_excludes |= e.value.abs() > half;
             }
-            // shown within the range the parameter cannot leave
-            let (lo, hi) = fit::fixed_range(*prm).unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+            let (ci_low, ci_high) = e.interval_95();
             parameters.push(ParamReport {
                 name: prm.label().into(),
                 value: e.value,
-                ci_low: (e.value - half).max(lo),
-                ci_high: (e.value + half).min(hi),
+                ci_low,
+                ci_high,
                 at_search_edge: false,
                 at_physical_edge: fit.at_bound.contains(prm),
             });

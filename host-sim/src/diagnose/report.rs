@@ -512,14 +512,11 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
                     .map(|_| String::new()),
             };
             let interval = estimate.map_or(String::new(), |e| {
-                let h = 1.96 * e.std_error;
-                // within the range the parameter cannot leave, as a candidate's list shows it
-                let (lo, hi) =
-                    super::fit::fixed_range(e.param).unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+                let (low, high) = e.interval_95();
                 format!(
                     "{}{NBSP}..{NBSP}{}",
-                    crate::timing::sig3((e.value - h).max(lo)),
-                    crate::timing::sig3((e.value + h).min(hi))
+                    crate::timing::sig3(low),
+                    crate::timing::sig3(high)
                 )
             });
             let value = match value {
@@ -982,11 +979,15 @@ mod tests {
         }
     }
 
-    fn status(rows: &[Vec<String>], section: &str, key: &str) -> String {
+    /// The model table's row of `key` in `section`: section, key, value, interval, status.
+    fn row<'a>(rows: &'a [Vec<String>], section: &str, key: &str) -> &'a [String] {
         rows.iter()
             .find(|r| r[0] == section && r[1] == key)
-            .unwrap_or_else(|| panic!("{section} {key} in {rows:?}"))[4]
-            .clone()
+            .unwrap_or_else(|| panic!("{section} {key} in {rows:?}"))
+    }
+
+    fn status(rows: &[Vec<String>], section: &str, key: &str) -> String {
+        row(rows, section, key)[4].clone()
     }
 
     /// The final model table never lets a searched parameter at the end of its range pass as
@@ -1048,13 +1049,11 @@ mod tests {
         });
         asym_fit.at_bound.push(Param::AsymCoulomb);
         let asym_rows = model_rows(&asym_fit);
-        let row = (asym_rows.iter())
-            .find(|r| r[0] == "effects.asymmetry" && r[1] == "coulomb_ratio")
-            .unwrap_or_else(|| panic!("{asym_rows:?}"));
-        assert_eq!(row[3], format!("-0.95{NBSP}..{NBSP}0.95"), "{row:?}");
+        let ratio = row(&asym_rows, "effects.asymmetry", "coulomb_ratio");
+        assert_eq!(ratio[3], format!("-0.95{NBSP}..{NBSP}0.95"), "{ratio:?}");
         assert!(
-            row[4].starts_with("at the edge of its physical range"),
-            "{row:?}"
+            ratio[4].starts_with("at the edge of its physical range"),
+            "{ratio:?}"
         );
         let edge = status(&rows, "lugre", "coulomb_force_n");
         assert!(

@@ -509,23 +509,21 @@ fn refine_effect(current: &Fit, e: EffectKind, on: Fitting<'_>) -> Option<Fit> {
     }
     let (_, grid, _) = effect_info(e).nonlinear?;
     let value = nonlinear_value(&current.model, e).filter(|v| *v > 0.0)?;
-    let (llo, lhi) = (grid.first()?.ln(), grid.last()?.ln());
-    let widest = (grid.windows(2))
-        .map(|w| (w[1] / w[0]).ln())
-        .fold(0.0f64, f64::max);
-    let base = current.model;
-    let ln_of = |f: &Fit| nonlinear_value(&f.model, e).map_or(value.ln(), f64::ln);
-    let eval = |lx: f64| on.refit_quick(&fit::add_effect(&base, e, on.p, lx.exp()));
-    let mut refined = refine(current, widest / 2.0, (llo, lhi), eval, ln_of);
+    let (ends, step) = ln_span(grid)?;
+    // the first parameter refined from `from`, whose value is `value` (the others held)
+    let refine_first = |from: &Fit, value: f64| {
+        let base = from.model;
+        let ln_of = |f: &Fit| nonlinear_value(&f.model, e).map_or(value.ln(), f64::ln);
+        let eval = |lx: f64| on.refit_quick(&fit::add_effect(&base, e, on.p, lx.exp()));
+        refine(from, step, ends, eval, ln_of)
+    };
+    let mut refined = refine_first(current, value);
     // the second shape parameter (the dwell's renewal distance, the Stribeck tail's scale)
     // refined the same way from there, then the first once more: the two trade against each
     // other, and each was left on or near a grid point of its own
     if let Some(shaped) = refine_shape(&refined, e, on) {
         let value = nonlinear_value(&shaped.model, e).unwrap_or(value);
-        let base = shaped.model;
-        let ln_of = |f: &Fit| nonlinear_value(&f.model, e).map_or(value.ln(), f64::ln);
-        let eval = |lx: f64| on.refit_quick(&fit::add_effect(&base, e, on.p, lx.exp()));
-        refined = refine(&shaped, widest / 2.0, (llo, lhi), eval, ln_of);
+        refined = refine_first(&shaped, value);
     }
     if refined.rss >= current.rss {
         return None;
@@ -537,6 +535,16 @@ fn refine_effect(current: &Fit, e: EffectKind, on: Fitting<'_>) -> Option<Fit> {
     })
 }
 
+/// A grid's ends in ln, and half its widest step in ln: where [`refine`] searches a
+/// parameter the grid placed, and the spacing it starts from.
+fn ln_span(grid: &[f64]) -> Option<((f64, f64), f64)> {
+    let ends = (grid.first()?.ln(), grid.last()?.ln());
+    let widest = (grid.windows(2))
+        .map(|w| (w[1] / w[0]).ln())
+        .fold(0.0f64, f64::max);
+    Some((ends, widest / 2.0))
+}
+
 /// The fit with effect `e`'s second shape parameter ([`super::EffectInfo::shape`]: the dwell's
 /// renewal distance, the Stribeck tail's scale) refined continuously in ln between its grid's
 /// ends ([`refine`], from half the grid's widest step; the linear parameters refitted at each
@@ -545,14 +553,11 @@ fn refine_effect(current: &Fit, e: EffectKind, on: Fitting<'_>) -> Option<Fit> {
 fn refine_shape(current: &Fit, e: EffectKind, on: Fitting<'_>) -> Option<Fit> {
     let (_, grid) = effect_info(e).shape?;
     let value = fit::shape_value(&current.model, e).filter(|v| *v > 0.0)?;
-    let (llo, lhi) = (grid.first()?.ln(), grid.last()?.ln());
-    let widest = (grid.windows(2))
-        .map(|w| (w[1] / w[0]).ln())
-        .fold(0.0f64, f64::max);
+    let (ends, step) = ln_span(grid)?;
     let base = current.model;
     let ln_of = |f: &Fit| fit::shape_value(&f.model, e).map_or(value.ln(), f64::ln);
     let eval = |lx: f64| on.refit_quick(&fit::with_shape(&base, e, lx.exp()));
-    let refined = refine(current, widest / 2.0, (llo, lhi), eval, ln_of);
+    let refined = refine(current, step, ends, eval, ln_of);
     (refined.rss < current.rss).then_some(refined)
 }
 
