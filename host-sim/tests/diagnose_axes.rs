@@ -341,12 +341,14 @@ fn an_asymmetry_its_candidate_stopped_short_of_is_handed_the_nested_checks_fit()
         .split("How each added effect was chosen")
         .nth(1)
         .expect("the section of the ranking the added effect was chosen from");
+    // in the asymmetry's verdict cell the label and its own search's error, the sentence once
+    // in the table's notes
     let said = format!(
-        "{}; its own search had reached {:.2}",
-        diagnose::FROM_NESTED_CHECK,
+        "given the nested check's fit, note 1; its own search had reached {:.2}",
         own.unwrap()
     );
     assert!(chosen.contains(&said), "{said}");
+    assert_eq!(chosen.matches(diagnose::FROM_NESTED_CHECK).count(), 1);
 }
 
 /// The nested check fits the simpler effect as a stage does, from both starts: on never-run

@@ -558,15 +558,10 @@ fn print_candidates(s: &diagnose::Stage) {
         }
     }
     // how some candidates were fitted: one line each, naming them
-    let nested: (diagnose::CandidateFlag, &str) = (
-        |c| c.from_nested_check.is_some(),
-        diagnose::FROM_NESTED_CHECK,
-    );
-    let how = diagnose::HOW_FITTED.into_iter().chain([nested]);
-    for (which, what) in how {
-        let named = s.named_where(which);
+    for how in diagnose::HOW_FITTED {
+        let named = s.named_where(how.flag);
         if !named.is_empty() {
-            println!("   {}: {what}", named.join(", "));
+            println!("   {}: {}", named.join(", "), how.sentence);
         }
     }
 }

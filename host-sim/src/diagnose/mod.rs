@@ -601,14 +601,58 @@ pub fn stroke_levels(pd: &PositionDependence<f64>) -> (f64, f64) {
 /// Whether something holds of a candidate ([`Stage::named_where`], [`HOW_FITTED`]).
 pub type CandidateFlag = fn(&Candidate) -> bool;
 
-/// How some candidates were fitted, each a flag of [`Candidate`] and the sentence the text
-/// output (one line naming the candidates) and the report (beside each verdict) say of it.
-/// [`Candidate::from_nested_check`] is said too, with the error its own search had reached.
-pub const HOW_FITTED: [(CandidateFlag, &str); 4] = [
-    (|c| c.fitted_before_restart, FITTED_BEFORE_RESTART),
-    (|c| c.settled_close_call, SETTLED_CLOSE_CALL),
-    (|c| c.unchallenged_close_call, UNCHALLENGED_CLOSE_CALL),
-    (|c| c.from_static_table, FROM_STATIC_TABLE),
+/// How some candidates were fitted: a flag of [`Candidate`], a short label and the sentence
+/// that explains it. The text output says each sentence once, naming the candidates it holds
+/// of; the report's verdict cells carry the label and a note number, and the sentence is said
+/// once, in a note under the table (a cell that held it whole read as a paragraph).
+#[derive(Clone, Copy, Debug)]
+pub struct HowFitted {
+    /// Whether it holds of a candidate.
+    pub flag: CandidateFlag,
+    /// A few words for a table cell.
+    pub label: &'static str,
+    /// What it means, whole.
+    pub sentence: &'static str,
+    /// What the report adds of a candidate beside the label (a number of its own), if any.
+    pub detail: fn(&Candidate) -> Option<String>,
+}
+
+/// Every way of [`HowFitted`], in the order they are said; of a candidate
+/// [`Candidate::from_nested_check`] the report adds the error its own search had reached.
+pub const HOW_FITTED: [HowFitted; 5] = [
+    HowFitted {
+        flag: |c| c.fitted_before_restart,
+        label: "kept from before the restart",
+        sentence: FITTED_BEFORE_RESTART,
+        detail: |_| None,
+    },
+    HowFitted {
+        flag: |c| c.settled_close_call,
+        label: "a close call, searched again",
+        sentence: SETTLED_CLOSE_CALL,
+        detail: |_| None,
+    },
+    HowFitted {
+        flag: |c| c.unchallenged_close_call,
+        label: "a close call's leader, not searched again",
+        sentence: UNCHALLENGED_CLOSE_CALL,
+        detail: |_| None,
+    },
+    HowFitted {
+        flag: |c| c.from_static_table,
+        label: "fitted from the static table",
+        sentence: FROM_STATIC_TABLE,
+        detail: |_| None,
+    },
+    HowFitted {
+        flag: |c| c.from_nested_check.is_some(),
+        label: "given the nested check's fit",
+        sentence: FROM_NESTED_CHECK,
+        detail: |c| {
+            c.from_nested_check
+                .map(|own| format!("its own search had reached {own:.2} %"))
+        },
+    },
 ];
 
 impl Candidate {

@@ -6,7 +6,7 @@
 //! 4. the error after each added effect, against the noise floor.
 
 use super::contact::{self, ContactCheck};
-use super::{Candidate, Diagnosis, Stage, BEYOND_THE_EIGHT};
+use super::{Candidate, Diagnosis, HowFitted, Stage, BEYOND_THE_EIGHT};
 use crate::chart::{self, Bars, Frame, Line, Panel, FINAL_MODEL, FIRST_MODEL};
 use crate::error::Result;
 
@@ -366,8 +366,10 @@ fn num(v: f64) -> String {
     }
 }
 
-/// A candidate's verdict in the table of the next candidates.
-fn verdict(c: &super::Candidate) -> String {
+/// A candidate's verdict in the table of the next candidates. How it was fitted is said by
+/// its label and its note's number in `notes` (the ways of [`super::HOW_FITTED`] that hold of
+/// some candidate in the table, in order; [`candidate_notes`]).
+fn verdict(c: &Candidate, notes: &[HowFitted]) -> String {
     let mut v = match &c.skipped {
         Some(w) => format!("skipped: {w}"),
         None if c.significant => "SIGNIFICANT".into(),
@@ -377,19 +379,17 @@ fn verdict(c: &super::Candidate) -> String {
             (None, None) => "not significant".into(),
         },
     };
-    for (flag, what) in super::HOW_FITTED {
-        if flag(c) {
-            v += &format!(" ({what})");
+    for (k, how) in notes.iter().enumerate() {
+        if (how.flag)(c) {
+            v += &format!(" ({}, note {}", how.label, k + 1);
+            if let Some(detail) = (how.detail)(c) {
+                v += &format!("; {detail}");
+            }
+            v += ")";
         }
     }
     if let Some(what) = c.saturated_note() {
         v += &format!(" ({what})");
-    }
-    if let Some(own) = c.from_nested_check {
-        v += &format!(
-            " ({}; its own search had reached {own:.2} %)",
-            super::FROM_NESTED_CHECK
-        );
     }
     if let Some(n) = c.kept_over_larger.filter(|_| c.significant) {
         // the whole sentence opens a one-stage page; a cell holds its numbers
@@ -404,6 +404,40 @@ fn verdict(c: &super::Candidate) -> String {
         v += ")";
     }
     v
+}
+
+/// The ways of [`super::HOW_FITTED`] that hold of some candidate in `candidates`: the notes
+/// under their table, in order.
+fn candidate_notes(candidates: &[Candidate]) -> Vec<HowFitted> {
+    super::HOW_FITTED
+        .into_iter()
+        .filter(|how| candidates.iter().any(how.flag))
+        .collect()
+}
+
+/// A table of candidates ([`candidate_rows`]) and, under it, its numbered notes: each way a
+/// candidate in it was fitted, the candidates it holds of and its whole sentence, once.
+fn candidate_table(candidates: &[Candidate]) -> String {
+    let notes = candidate_notes(candidates);
+    let mut out = table(&candidate_rows(candidates, &notes), &CANDIDATE_HEAD);
+    if !notes.is_empty() {
+        out += "<ol class=\"notes\">";
+        for how in &notes {
+            let named: Vec<&str> = candidates
+                .iter()
+                .filter(|c| (how.flag)(c))
+                .map(|c| c.kind.name())
+                .collect();
+            out += &format!(
+                "<li><b>{}</b> ({}): {}</li>",
+                escape(how.label),
+                escape(&named.join(", ")),
+                escape(how.sentence)
+            );
+        }
+        out += "</ol>";
+    }
+    out
 }
 
 /// The final model's rows: every parameter-file entry with its interval and status.
@@ -685,7 +719,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
         "<!doctype html><html><head><meta charset=\"utf-8\"><title>lugre-servo diagnosis</title><style>\
          body{font-family:sans-serif;max-width:960px;margin:2em auto;color:#222}\
          table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 8px;text-align:left}\
-         .big{font-size:1.4em}.sig{color:#1b7837;font-weight:bold}</style></head><body>",
+         .big{font-size:1.4em}ol.notes{font-size:0.9em;color:#444}.sig{color:#1b7837;font-weight:bold}</style></head><body>",
     );
     out += &format!("<h1>Friction diagnosis of {}</h1>", escape(name));
     let end = last.fit.rel_err_pct;
@@ -833,7 +867,7 @@ fn page(d: &Diagnosis, name: &str, validation: Option<f64>) -> Result<String> {
     out += &regime_bias(first, last)?;
     out += &breakaway_section(d, pred_first, pred_last)?;
     out += "<h2>Which effect is missing (next candidates, best first)</h2>";
-    out += &table(&candidate_rows(&last.candidates), &CANDIDATE_HEAD);
+    out += &candidate_table(&last.candidates);
     out += &chosen_sections(d);
     out += "<h2>Final model</h2><p>Every parameter of the model the record ends with, in the \
             parameter file's names and units; the 95 % interval where the fit determined it, and \
@@ -902,7 +936,7 @@ fn chosen_sections(d: &Diagnosis) -> String {
             escape(added.name()),
             w[1].fit.rel_err_pct
         );
-        out += &table(&candidate_rows(&w[0].candidates), &CANDIDATE_HEAD);
+        out += &candidate_table(&w[0].candidates);
     }
     out
 }
@@ -919,9 +953,9 @@ const CANDIDATE_HEAD: [&str; 7] = [
 ];
 
 /// The candidate table's rows: effect, meaning, error with it, dBIC, the force it explains,
-/// the verdict, and its parameters with their intervals ([`Candidate::parameter_texts`]: an
-/// edge of the search range is said, as the CLI says it).
-fn candidate_rows(candidates: &[Candidate]) -> Vec<Vec<String>> {
+/// the verdict (with the numbers of its `notes`), and its parameters with their intervals
+/// ([`Candidate::parameter_texts`]: an edge of the search range is said, as the CLI says it).
+fn candidate_rows(candidates: &[Candidate], notes: &[HowFitted]) -> Vec<Vec<String>> {
     candidates
         .iter()
         .map(|c| {
@@ -933,7 +967,7 @@ fn candidate_rows(candidates: &[Candidate]) -> Vec<Vec<String>> {
                 c.delta_bic.map_or("-".into(), |b| format!("{b:.1}")),
                 c.rel_err_pct
                     .map_or("-".into(), |_| format!("{:.3}{NBSP}N", c.explained_rms_n)),
-                verdict(c),
+                verdict(c, notes),
                 c.parameter_texts().join("; "),
             ]
         })
@@ -1085,6 +1119,58 @@ mod tests {
         assert!(!texts[1].contains("edge"), "{texts:?}");
     }
 
+    /// How candidates were fitted is said once per table, in a numbered note under it that
+    /// names them; each verdict cell carries the short label and the note's number (a cell
+    /// that held the whole sentence read as a paragraph: EMPS's asymmetry and offset, session
+    /// 110), and a candidate given the nested check's fit keeps its own search's error in it.
+    #[test]
+    fn how_candidates_were_fitted_is_said_once_under_their_table() {
+        use crate::diagnose::{effect_info, FROM_NESTED_CHECK, FROM_STATIC_TABLE};
+        use lugre_servo::friction::EffectKind;
+        let mut asymmetry = Candidate::unscored(effect_info(EffectKind::Asymmetry));
+        asymmetry.from_static_table = true;
+        asymmetry.from_nested_check = Some(1.234);
+        let mut offset = Candidate::unscored(effect_info(EffectKind::Offset));
+        offset.from_static_table = true;
+        let plain = Candidate::unscored(effect_info(EffectKind::ViscousPower));
+        let html = candidate_table(&[asymmetry, offset, plain]);
+        assert_eq!(
+            html.matches(&escape(FROM_STATIC_TABLE)).count(),
+            1,
+            "{html}"
+        );
+        assert_eq!(
+            html.matches(&escape(FROM_NESTED_CHECK)).count(),
+            1,
+            "{html}"
+        );
+        assert!(
+            html.contains("fitted from the static table</b> (asymmetry, offset)"),
+            "{html}"
+        );
+        let notes = candidate_notes(&[]);
+        assert!(notes.is_empty());
+        let cells: Vec<&str> = html.split("<td>").collect();
+        let verdict_of = |effect: &str| {
+            let at = cells
+                .iter()
+                .position(|c| c.starts_with(&format!("{effect}<")))
+                .unwrap();
+            cells[at + 5]
+        };
+        assert!(
+            verdict_of("asymmetry").contains(
+                "(fitted from the static table, note 1) (given the nested check's fit, note 2; \
+                 its own search had reached 1.23 %)"
+            ),
+            "{}",
+            verdict_of("asymmetry")
+        );
+        assert!(verdict_of("offset").contains("(fitted from the static table, note 1)"));
+        assert!(!verdict_of("offset").contains("note 2"));
+        assert!(!verdict_of("viscous_power").contains("note"));
+    }
+
     /// The report's candidate table says where a candidate's parameter ended at the edge of
     /// its search range, as the CLI's list does (both take `Candidate::parameter_texts`), and
     /// only there; a dwell candidate's age rule and clock are listed with its parameters.
@@ -1115,7 +1201,7 @@ mod tests {
             growth: lugre_servo::friction::DwellGrowth::Exponential,
         });
         dwell.fit = Some(fit);
-        let rows = candidate_rows(&[load, dwell]);
+        let rows = candidate_rows(&[load, dwell], &[]);
         let texts: Vec<&str> = rows[0][6].split("; ").collect();
         assert_eq!(texts.len(), 2, "{texts:?}");
         assert!(texts[0].starts_with("terms = 4.0000e0"), "{texts:?}");
