@@ -242,6 +242,37 @@ pub fn hz(f: f64) -> String {
     format!("{} Hz", sig3(f))
 }
 
+/// `v` with `digits` significant digits, for people: in plain decimals from 1e-3 to 1e5
+/// ("0.7203", "-9.5", "1147"), in exponent form outside ("2.519e10", "1e-5"), without
+/// trailing zeros either way; 0 as "0", a value that is not finite as Rust writes it.
+pub fn number(v: f64, digits: usize) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let digits = digits.max(1);
+    let trim = |s: String| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    // rounding can carry a value over a power of ten (99999.9 -> 1.000e5): judged as written
+    let exp = format!("{v:.*e}", digits - 1);
+    let power: i32 = exp
+        .split_once('e')
+        .map_or(0, |(_, p)| p.parse().unwrap_or(0));
+    if (-3..5).contains(&power) {
+        // the value as rounded to its digits, written with as many decimals as they reach
+        let rounded: f64 = exp.parse().unwrap_or(v);
+        let decimals = (digits as i32 - 1 - power).max(0) as usize;
+        trim(format!("{rounded:.decimals$}"))
+    } else {
+        let (mantissa, power) = exp.split_once('e').unwrap_or((&exp, "0"));
+        format!("{}e{power}", trim(mantissa.to_string()))
+    }
+}
+
 /// Three significant digits without trailing zeros.
 pub fn sig3(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
@@ -259,6 +290,26 @@ pub fn sig3(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Plain decimals from 1e-3 to 1e5, exponent form outside, trailing zeros dropped, and a
+    /// rounding that carries over a power of ten written in the form of its result.
+    #[test]
+    fn numbers_for_people() {
+        assert_eq!(number(0.72032, 5), "0.72032");
+        assert_eq!(number(0.720321, 4), "0.7203");
+        assert_eq!(number(-0.95, 5), "-0.95");
+        assert_eq!(number(4.0, 5), "4");
+        assert_eq!(number(1147.26, 4), "1147");
+        assert_eq!(number(1147.26, 3), "1150");
+        assert_eq!(number(-2.519e10, 4), "-2.519e10");
+        assert_eq!(number(1e-5, 5), "1e-5");
+        assert_eq!(number(1.0e-3, 3), "0.001");
+        assert_eq!(number(99999.96, 4), "1e5");
+        assert_eq!(number(0.00099996, 4), "0.001");
+        assert_eq!(number(0.0, 4), "0");
+        assert_eq!(number(f64::NAN, 4), "NaN");
+        assert_eq!(number(123.0, 0), "100");
+    }
 
     fn jittered(n: usize, seed: u64) -> Record {
         // a logger at a nominal 100 Hz: intervals 10..17 ms, one 0.3 s stall

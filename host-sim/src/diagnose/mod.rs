@@ -657,11 +657,13 @@ pub const HOW_FITTED: [HowFitted; 5] = [
 
 impl Candidate {
     /// Its parameters as the candidate lists show them (the CLI's and the report's), one text
-    /// each: `name = value [low, high]`, the 95 % interval, with a note where the value ended
+    /// each: `name = value [low, high]`, the 95 % interval (five and four significant digits, in
+    /// plain decimals from 1e-3 to 1e5: `crate::timing::number`), with a note where the value ended
     /// at the edge of its search range (never silent), and a dwell term's age rule; a position
     /// dependence's net shape first, the lowest and highest level shift along the visited
     /// stroke ([`stroke_levels`]).
     pub fn parameter_texts(&self) -> Vec<String> {
+        use crate::timing::number;
         // a position dependence's net shape first: its gradient and cosine terms are nearly
         // collinear (a ramp's cosine series), so each can be large while their sum moves the
         // friction by far less (effect-free record 2930: a gradient of -3853 N/m and cosine_1
@@ -674,10 +676,12 @@ impl Candidate {
             .map(|pd| {
                 let (low, high) = stroke_levels(pd);
                 format!(
-                    "along the stroke visited ({:.4} .. {:.4} m) the level moves between \
-                     {low:.4e} and {high:.4e} N",
+                    "along the stroke visited ({:.4} .. {:.4} m) the level moves between {} \
+                     and {} N",
                     pd.center - pd.half_span,
-                    pd.center + pd.half_span
+                    pd.center + pd.half_span,
+                    number(low, 5),
+                    number(high, 5)
                 )
             });
         net_shape
@@ -691,8 +695,11 @@ impl Candidate {
                     ""
                 };
                 format!(
-                    "{} = {:.4e} [{:.3e}, {:.3e}]{edge}",
-                    q.name, q.value, q.ci_low, q.ci_high
+                    "{} = {} [{}, {}]{edge}",
+                    q.name,
+                    number(q.value, 5),
+                    number(q.ci_low, 4),
+                    number(q.ci_high, 4)
                 )
             }))
             // the dwell candidate's rule, which the data chose, under the parameter file's keys

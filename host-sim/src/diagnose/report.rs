@@ -359,11 +359,7 @@ s.style.cursor='zoom-in';});\
 
 /// A number for a table: three significant digits, in exponent form when very large or small.
 fn num(v: f64) -> String {
-    if v != 0.0 && (v.abs() >= 1e5 || v.abs() < 1e-3) {
-        format!("{v:.3e}")
-    } else {
-        crate::timing::sig3(v)
-    }
+    crate::timing::number(v, 3)
 }
 
 /// A candidate's verdict in the table of the next candidates. How it was fitted is said by
@@ -1204,7 +1200,7 @@ mod tests {
         let rows = candidate_rows(&[load, dwell], &[]);
         let texts: Vec<&str> = rows[0][6].split("; ").collect();
         assert_eq!(texts.len(), 2, "{texts:?}");
-        assert!(texts[0].starts_with("terms = 4.0000e0"), "{texts:?}");
+        assert!(texts[0].starts_with("terms = 4 [4, 4]"), "{texts:?}");
         assert!(
             texts[0].ends_with("(at the edge of its search range)"),
             "{texts:?}"
