@@ -126,11 +126,19 @@ pub struct Estimate {
 
 impl Estimate {
     /// The 95 % interval, `value +- 1.96 std_error`, within the range the parameter cannot
-    /// leave where that is the same on every record ([`fixed_range`]): what the candidate
-    /// lists and the report's model table show.
+    /// leave where that is the same on every record ([`fixed_range`]; a mass, a friction level,
+    /// a viscous coefficient or a bristle damping is not negative): what the candidate lists
+    /// and the report's model table show.
     pub fn interval_95(&self) -> (f64, f64) {
         let half = 1.96 * self.std_error;
-        let (lo, hi) = fixed_range(self.param).unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+        let (lo, hi) = fixed_range(self.param).unwrap_or(match self.param {
+            Param::Mass
+            | Param::Coulomb
+            | Param::Static
+            | Param::Viscous
+            | Param::BristleDamping => (0.0, f64::INFINITY),
+            _ => (f64::NEG_INFINITY, f64::INFINITY),
+        });
         ((self.value - half).max(lo), (self.value + half).min(hi))
     }
 }

@@ -1085,6 +1085,9 @@ mod tests {
             ratio[4].starts_with("at the edge of its physical range"),
             "{ratio:?}"
         );
+        // a level that cannot be negative: its interval from zero
+        let level = row(&rows, "lugre", "coulomb_force_n");
+        assert_eq!(level[3], format!("0{NBSP}..{NBSP}9.8"), "{level:?}");
         let edge = status(&rows, "lugre", "coulomb_force_n");
         assert!(
             edge.starts_with("at the edge of its physical range"),
