@@ -675,11 +675,12 @@ impl Candidate {
             .and_then(|f| f.model.friction.effects.position_dependence.as_ref())
             .map(|pd| {
                 let (low, high) = stroke_levels(pd);
+                // to 0.1 mm, and a position that rounds to zero written "0.0000", not "-0.0000"
+                let metres = |x: f64| format!("{:.4}", (x * 1e4).round() / 1e4 + 0.0);
                 format!(
-                    "along the stroke visited ({:.4} .. {:.4} m) the level moves between {} \
-                     and {} N",
-                    pd.center - pd.half_span,
-                    pd.center + pd.half_span,
+                    "along the stroke visited ({} .. {} m) the level moves between {} and {} N",
+                    metres(pd.center - pd.half_span),
+                    metres(pd.center + pd.half_span),
                     number(low, 5),
                     number(high, 5)
                 )

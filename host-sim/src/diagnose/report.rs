@@ -1118,6 +1118,25 @@ mod tests {
         assert!(!texts[1].contains("edge"), "{texts:?}");
     }
 
+    /// A position dependence's net shape is said over the stroke visited, to 0.1 mm, with a
+    /// start that rounds to zero written as zero (EMPS read "(-0.0000 .. 0.2464 m)").
+    #[test]
+    fn the_stroke_visited_starts_at_zero_not_minus_zero() {
+        use crate::diagnose::effect_info;
+        use lugre_servo::friction::EffectKind;
+        let mut fit = fit_with_viscous_exponent(1.0);
+        let mut pd = fx::PositionDependence::linear(1.0, 0.1232);
+        pd.half_span = 0.1232 + 2e-8;
+        fit.model.friction.effects.position_dependence = Some(pd);
+        let mut c = Candidate::unscored(effect_info(EffectKind::PositionDependence));
+        c.fit = Some(fit);
+        let texts = c.parameter_texts();
+        assert!(
+            texts[0].starts_with("along the stroke visited (0.0000 .. 0.2464 m)"),
+            "{texts:?}"
+        );
+    }
+
     /// How candidates were fitted is said once per table, in a numbered note under it that
     /// names them; each verdict cell carries the short label and the note's number (a cell
     /// that held the whole sentence read as a paragraph: EMPS's asymmetry and offset, session
