@@ -657,9 +657,10 @@ pub const HOW_FITTED: [HowFitted; 5] = [
 
 impl Candidate {
     /// Its parameters as the candidate lists show them (the CLI's and the report's), one text
-    /// each: `name = value [low, high]`, the 95 % interval (five and four significant digits, in
-    /// plain decimals from 1e-3 to 1e5: `crate::timing::number`), with a note where the value ended
-    /// at the edge of its search range (never silent), and a dwell term's age rule; a position
+    /// each: `name = value [low, high]`, the 95 % interval (five and four significant digits,
+    /// in plain decimals from 1e-3 to 1e5: `crate::timing::number`), with a note where the
+    /// value ended at the edge of its search range (never silent), and a dwell term's age
+    /// rule; a position
     /// dependence's net shape first, the lowest and highest level shift along the visited
     /// stroke ([`stroke_levels`]).
     pub fn parameter_texts(&self) -> Vec<String> {

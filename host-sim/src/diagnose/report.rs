@@ -1166,8 +1166,9 @@ mod tests {
             html.contains("fitted from the static table</b> (asymmetry, offset)"),
             "{html}"
         );
-        let notes = candidate_notes(&[]);
-        assert!(notes.is_empty());
+        // a table whose candidates were all fitted the ordinary way has no notes
+        let ordinary = Candidate::unscored(effect_info(EffectKind::Offset));
+        assert!(!candidate_table(&[ordinary]).contains("<ol"));
         let cells: Vec<&str> = html.split("<td>").collect();
         let verdict_of = |effect: &str| {
             let at = cells
