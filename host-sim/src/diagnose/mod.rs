@@ -660,9 +660,8 @@ impl Candidate {
     /// each: `name = value [low, high]`, the 95 % interval (five and four significant digits,
     /// in plain decimals from 1e-3 to 1e5: `crate::timing::number`), with a note where the
     /// value ended at the edge of its search range (never silent), and a dwell term's age
-    /// rule; a position
-    /// dependence's net shape first, the lowest and highest level shift along the visited
-    /// stroke ([`stroke_levels`]).
+    /// rule; a position dependence's net shape first, the lowest and highest level shift along
+    /// the visited stroke ([`stroke_levels`]).
     pub fn parameter_texts(&self) -> Vec<String> {
         use crate::timing::number;
         // a position dependence's net shape first: its gradient and cosine terms are nearly
