@@ -250,13 +250,6 @@ pub fn number(v: f64, digits: usize) -> String {
         return format!("{v}");
     }
     let digits = digits.max(1);
-    let trim = |s: String| {
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    };
     // rounding can carry a value over a power of ten (99999.9 -> 1.000e5): judged as written
     let exp = format!("{v:.*e}", digits - 1);
     let power: i32 = exp
@@ -266,10 +259,10 @@ pub fn number(v: f64, digits: usize) -> String {
         // the value as rounded to its digits, written with as many decimals as they reach
         let rounded: f64 = exp.parse().unwrap_or(v);
         let decimals = (digits as i32 - 1 - power).max(0) as usize;
-        trim(format!("{rounded:.decimals$}"))
+        without_trailing_zeros(format!("{rounded:.decimals$}"))
     } else {
         let (mantissa, power) = exp.split_once('e').unwrap_or((&exp, "0"));
-        format!("{}e{power}", trim(mantissa.to_string()))
+        format!("{}e{power}", without_trailing_zeros(mantissa.to_string()))
     }
 }
 
@@ -279,7 +272,12 @@ pub fn sig3(v: f64) -> String {
         return format!("{v}");
     }
     let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
-    let s = format!("{v:.digits$}");
+    without_trailing_zeros(format!("{v:.digits$}"))
+}
+
+/// A decimal number's text without the zeros after its last significant decimal ("4.500" ->
+/// "4.5", "4.000" -> "4"); a text without a decimal point as it is.
+fn without_trailing_zeros(s: String) -> String {
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
     } else {

@@ -620,40 +620,55 @@ pub struct HowFitted {
 /// Every way of [`HowFitted`], in the order they are said; of a candidate
 /// [`Candidate::from_nested_check`] the report adds the error its own search had reached.
 pub const HOW_FITTED: [HowFitted; 5] = [
+    HowFitted::said(
+        |c| c.fitted_before_restart,
+        "kept from before the restart",
+        FITTED_BEFORE_RESTART,
+    ),
+    HowFitted::said(
+        |c| c.settled_close_call,
+        "a close call, searched again",
+        SETTLED_CLOSE_CALL,
+    ),
+    HowFitted::said(
+        |c| c.unchallenged_close_call,
+        "a close call's leader, not searched again",
+        UNCHALLENGED_CLOSE_CALL,
+    ),
+    HowFitted::said(
+        |c| c.from_static_table,
+        "fitted from the static table",
+        FROM_STATIC_TABLE,
+    ),
     HowFitted {
-        flag: |c| c.fitted_before_restart,
-        label: "kept from before the restart",
-        sentence: FITTED_BEFORE_RESTART,
-        detail: |_| None,
-    },
-    HowFitted {
-        flag: |c| c.settled_close_call,
-        label: "a close call, searched again",
-        sentence: SETTLED_CLOSE_CALL,
-        detail: |_| None,
-    },
-    HowFitted {
-        flag: |c| c.unchallenged_close_call,
-        label: "a close call's leader, not searched again",
-        sentence: UNCHALLENGED_CLOSE_CALL,
-        detail: |_| None,
-    },
-    HowFitted {
-        flag: |c| c.from_static_table,
-        label: "fitted from the static table",
-        sentence: FROM_STATIC_TABLE,
-        detail: |_| None,
-    },
-    HowFitted {
-        flag: |c| c.from_nested_check.is_some(),
-        label: "given the nested check's fit",
-        sentence: FROM_NESTED_CHECK,
         detail: |c| {
             c.from_nested_check
                 .map(|own| format!("its own search had reached {own:.2} %"))
         },
+        ..HowFitted::said(
+            |c| c.from_nested_check.is_some(),
+            "given the nested check's fit",
+            FROM_NESTED_CHECK,
+        )
     },
 ];
+
+impl HowFitted {
+    /// A way with nothing of its own to add beside its label.
+    const fn said(flag: CandidateFlag, label: &'static str, sentence: &'static str) -> Self {
+        Self {
+            flag,
+            label,
+            sentence,
+            detail: no_detail,
+        }
+    }
+}
+
+/// [`HowFitted::detail`] of a way that adds nothing.
+fn no_detail(_: &Candidate) -> Option<String> {
+    None
+}
 
 impl Candidate {
     /// Its parameters as the candidate lists show them (the CLI's and the report's), one text

@@ -543,11 +543,7 @@ fn model_rows(fit: &super::fit::Fit) -> Vec<Vec<String>> {
             };
             let interval = estimate.map_or(String::new(), |e| {
                 let (low, high) = e.interval_95();
-                format!(
-                    "{}{NBSP}..{NBSP}{}",
-                    crate::timing::sig3(low),
-                    crate::timing::sig3(high)
-                )
+                format!("{}{NBSP}..{NBSP}{}", num(low), num(high))
             });
             let value = match value {
                 Entry::Number(x) => num(x),
