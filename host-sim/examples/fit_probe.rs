@@ -17,6 +17,7 @@
 mod generators;
 
 use generators::axis::{record_on_axes, truth_error_pct, Actuator, Axes};
+use host_sim::diagnose::decay_cache::DecayCache;
 use host_sim::diagnose::fit::{self, Fitting};
 use host_sim::diagnose::inverse::{AxisModel, Protocol};
 use host_sim::diagnose::{self, Options, Search};
@@ -65,10 +66,12 @@ fn probe(seed: u64, axes: Axes, skew: f64) -> String {
         friction: FrictionModel::plain(axis.lugre_params()),
     };
     let ours_at_truth = p.rel_err_pct(&truth.predict(p));
+    let decays = DecayCache::new(p);
     let on = Fitting {
         p,
         fixed_mass: None,
         n_eff: fit::effective_samples(p, 20.0),
+        decays: &decays,
     };
     let lin = on.refit(&truth);
     let searched = diagnose::polish(&lin, None, on, Search::STAGE);

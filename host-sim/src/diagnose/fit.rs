@@ -20,6 +20,7 @@
 //! Errors and statistics always come from the real model (the core's exact LuGre step) run
 //! along the motion, not from the linearisation.
 
+use super::decay_cache::DecayCache;
 use super::inverse::{AxisModel, Prepared, Simulation};
 use crate::signal::integrated_autocorrelation_time;
 use lugre_servo::friction::effects as fx;
@@ -260,8 +261,8 @@ pub fn residual_effective_samples(p: &Prepared, filtered: &[f64]) -> f64 {
 }
 
 /// What every fit of one record holds fixed: the prepared record, the moving mass the user
-/// gave (if any) and the record's effective sample count. The nonlinear searches pass it
-/// whole to every refit they make.
+/// gave (if any) and the record's effective sample count, and the Stribeck decays its fits
+/// share. The nonlinear searches pass it whole to every refit they make.
 #[derive(Clone, Copy)]
 pub struct Fitting<'a> {
     /// The prepared record (filtered, weighted).
@@ -270,24 +271,39 @@ pub struct Fitting<'a> {
     pub fixed_mass: Option<f64>,
     /// Effective independent samples ([`effective_samples`]).
     pub n_eff: f64,
+    /// The Stribeck decays along `p` the refits have evaluated (a cache of another record
+    /// evaluates each one again, with the same result).
+    pub decays: &'a DecayCache<'a>,
 }
 
 impl Fitting<'_> {
     /// [`refit`] of `seed` on this record.
     pub fn refit(&self, seed: &AxisModel) -> Fit {
-        refit(seed, self.p, self.fixed_mass, self.n_eff)
+        let (p, m, n) = (self.p, self.fixed_mass, self.n_eff);
+        refit_iterations(seed, p, m, None, n, 8, Jacobian::Rebuilt, self.decays)
     }
 
     /// [`refit_quick`] of `seed` on this record.
     pub fn refit_quick(&self, seed: &AxisModel) -> Fit {
-        refit_quick(seed, self.p, self.fixed_mass, self.n_eff)
+        let (p, m, n) = (self.p, self.fixed_mass, self.n_eff);
+        refit_iterations(seed, p, m, None, n, 3, Jacobian::Frozen, self.decays)
     }
 }
 
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
 /// `fixed_mass` keeps M as given.
 pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
-    refit_iterations(seed, p, fixed_mass, None, n_eff, 8, Jacobian::Rebuilt)
+    let decays = DecayCache::new(p);
+    refit_iterations(
+        seed,
+        p,
+        fixed_mass,
+        None,
+        n_eff,
+        8,
+        Jacobian::Rebuilt,
+        &decays,
+    )
 }
 
 /// [`refit`] with the viscous coefficient held at `viscous_n_s_per_m` \[N s/m\] (it leaves the
@@ -300,14 +316,17 @@ pub fn refit_holding_viscous(
     viscous_n_s_per_m: f64,
     n_eff: f64,
 ) -> Fit {
+    let decays = DecayCache::new(p);
+    let held = Some(viscous_n_s_per_m);
     refit_iterations(
         seed,
         p,
         fixed_mass,
-        Some(viscous_n_s_per_m),
+        held,
         n_eff,
         8,
         Jacobian::Rebuilt,
+        &decays,
     )
 }
 
@@ -319,7 +338,17 @@ pub fn refit_holding_viscous(
 /// CPU time; chord steps cut the diagnosis's time to 0.76 of Gauss-Newton's, with the same
 /// answer on every one of 200 independent records, session 37.)
 pub fn refit_quick(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
-    refit_iterations(seed, p, fixed_mass, None, n_eff, 3, Jacobian::Frozen)
+    let decays = DecayCache::new(p);
+    refit_iterations(
+        seed,
+        p,
+        fixed_mass,
+        None,
+        n_eff,
+        3,
+        Jacobian::Frozen,
+        &decays,
+    )
 }
 
 /// How a refit's Jacobian follows an accepted step.
@@ -334,6 +363,7 @@ enum Jacobian {
     Frozen,
 }
 
+#[allow(clippy::too_many_arguments)]
 fn refit_iterations(
     seed: &AxisModel,
     p: &Prepared,
@@ -342,6 +372,7 @@ fn refit_iterations(
     n_eff: f64,
     iterations: usize,
     jacobian: Jacobian,
+    decays: &DecayCache,
 ) -> Fit {
     let mut model = *seed;
     if let Some(m) = fixed_mass {
@@ -353,19 +384,15 @@ fn refit_iterations(
             .with_levels(s2.max(0.0), q.coulomb_force(), q.static_force())
             .unwrap_or(q);
     }
-    // the levels move, vs and the shape do not: the Stribeck decay is evaluated once, unless
-    // a Stribeck tail's share (fitted here) moves it
+    // the levels move, vs and the shape do not: the Stribeck decay is taken once (from the
+    // fits before that shared it), unless a Stribeck tail's share (fitted here) moves it
     let tail_moves = model.friction.effects.stribeck_shape.is_some();
-    let decay = if tail_moves {
-        Vec::new()
-    } else {
-        model.stribeck_decay(p)
-    };
+    let decay = decays.decay(&model, p);
     let decay_of = |m: &AxisModel| {
         if tail_moves {
-            Cow::Owned(m.stribeck_decay(p))
+            decays.decay(m, p)
         } else {
-            Cow::Borrowed(decay.as_slice())
+            decay.clone()
         }
     };
     // score a model: (weighted RSS, its simulation, its prediction, the decay it used, kept
@@ -2096,10 +2123,12 @@ mod chord_tests {
         };
         let n_eff = 200.0;
         let p = record_of(&with_ratio(0.33));
+        let decays = DecayCache::new(&p);
         let on = |p| Fitting {
             p,
             fixed_mass: None,
             n_eff,
+            decays: &decays,
         };
         let start = on(&p).refit(&with_ratio(0.0));
         let found =
@@ -2160,9 +2189,10 @@ mod chord_tests {
             ),
         };
         let start = p.rel_err_pct(&seed.predict(&p));
-        let rebuilt = refit_iterations(&seed, &p, None, None, 50.0, 3, Jacobian::Rebuilt);
-        let chord = refit_iterations(&seed, &p, None, None, 50.0, 3, Jacobian::Frozen);
-        let one = refit_iterations(&seed, &p, None, None, 50.0, 1, Jacobian::Rebuilt);
+        let d = DecayCache::new(&p);
+        let rebuilt = refit_iterations(&seed, &p, None, None, 50.0, 3, Jacobian::Rebuilt, &d);
+        let chord = refit_iterations(&seed, &p, None, None, 50.0, 3, Jacobian::Frozen, &d);
+        let one = refit_iterations(&seed, &p, None, None, 50.0, 1, Jacobian::Rebuilt, &d);
         eprintln!(
             "start {start:.3} %, one step {:.4} %, rebuilt {:.4} %, chord {:.4} %",
             one.rel_err_pct, rebuilt.rel_err_pct, chord.rel_err_pct

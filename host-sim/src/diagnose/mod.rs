@@ -28,6 +28,7 @@
 pub mod across;
 pub mod breakaway;
 pub mod contact;
+pub mod decay_cache;
 pub mod fit;
 pub mod inverse;
 pub mod regimes;
@@ -45,6 +46,7 @@ pub use search::*;
 use crate::error::{DataProblem, Error, Result};
 use crate::record::Record;
 use breakaway::Breakaway;
+use decay_cache::DecayCache;
 use fit::{Fit, Param};
 use inverse::{AxisModel, Prepared, Protocol};
 use lugre_servo::friction::effects::PositionDependence;
@@ -1496,11 +1498,13 @@ pub fn diagnose(rec: &Record, name: &str, opts: &Options) -> Result<Diagnosis> {
         spread.unwrap_or_else(|| prediction_spread(rec, name, protocol, &p, &base.model).1);
     // scored like a model's error over the moving samples counted alike
     let motion_spread_pct = p.plain_pct(|i| spread[i]);
+    let decays = DecayCache::new(&p);
     let on = Scope {
         fitting: fit::Fitting {
             p: &p,
             fixed_mass,
             n_eff,
+            decays: &decays,
         },
         brk: &brk,
         tables: &tables,
@@ -1626,10 +1630,12 @@ fn choose_force_reading(
 ) -> Option<(Prepared, Protocol)> {
     // each reading's baseline: its linear parameters refitted, then vs and sigma0 searched once
     let searched = |q: &Prepared| {
+        let decays = DecayCache::new(q);
         let on = fit::Fitting {
             p: q,
             fixed_mass,
             n_eff: fit::effective_samples(q, protocol.parallel_cutoff_hz),
+            decays: &decays,
         };
         polish(&on.refit(&base.model), None, on, Search::FIRST_BASELINE).rel_err_pct
     };

@@ -290,10 +290,12 @@ pub(super) fn baseline_searched(
     search: Search,
     table: Option<&static_table::StaticFit>,
 ) -> Fit {
+    let decays = DecayCache::new(p);
     let on = Fitting {
         p,
         fixed_mass: opts.fixed_mass(),
         n_eff,
+        decays: &decays,
     };
     if let Some(g) = &opts.given {
         let plain = AxisModel {
