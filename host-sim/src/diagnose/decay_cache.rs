@@ -17,15 +17,15 @@ const KEPT: usize = 16;
 
 /// What the Stribeck decay `FrictionModel::stribeck_decay_at` reads of a model, as bits (two
 /// models with equal keys have the same decay at every sample, bit for bit): the Stribeck
-/// velocity, the curve's shape, the temperature dependence (which scales the Stribeck velocity
-/// and sets the reference temperature a record without one is read at) and the asymmetry's
-/// Stribeck velocity ratio. `the_decay_reads_nothing_outside_its_key` fails when it reads
-/// anything else.
+/// velocity, the curve's shape, the temperature dependence's Stribeck velocity factor
+/// `exp(q k_v (T - T_ref))` (and `T_ref`, the temperature a record without one is read at),
+/// and the asymmetry's Stribeck velocity ratio. `the_decay_reads_nothing_outside_its_key`
+/// fails when the decay reads anything else, or a part of the key stops mattering.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DecayKey {
     stribeck_velocity: u64,
     shape: Option<[u64; 3]>,
-    temperature: Option<[u64; 4]>,
+    temperature: Option<[u64; 3]>,
     stribeck_velocity_ratio: Option<u64>,
 }
 
@@ -42,7 +42,6 @@ impl DecayKey {
             temperature: e.temperature_dependence.map(|t| {
                 [
                     t.viscous_per_kelvin,
-                    t.coulomb_per_kelvin,
                     t.reference_temperature,
                     t.stribeck_hersey_exponent,
                 ]
@@ -151,8 +150,9 @@ mod tests {
         d.iter().map(|v| v.to_bits()).collect()
     }
 
-    /// A model that differs only outside the key has the same decay bit for bit, so that the
-    /// cache may hand it over; each field of the key moves it.
+    /// A model that differs only outside the key (in its levels, mass, bristle, the asymmetry's
+    /// level ratios, the temperature's Coulomb factor, or any other effect) has the same decay
+    /// bit for bit, so that the cache may hand it over; each part of the key moves it.
     #[test]
     fn the_decay_reads_nothing_outside_its_key() {
         let p = record(1.0);
@@ -175,12 +175,38 @@ mod tests {
         let mut offset = m;
         offset.friction.effects.offset = None;
         outside.push(offset);
-        let mut power = m;
-        power.friction.effects.viscous_power = Some(fx::ViscousPower {
+        let mut bristle = m;
+        bristle.friction.params = LugreParams::new(4e7, 900.0, 800.0, 100.0, 150.0, 0.004).unwrap();
+        outside.push(bristle);
+        let mut coulomb_warm = m;
+        if let Some(t) = coulomb_warm
+            .friction
+            .effects
+            .temperature_dependence
+            .as_mut()
+        {
+            t.coulomb_per_kelvin = 0.01;
+        }
+        outside.push(coulomb_warm);
+        let mut others = m;
+        let e = &mut others.friction.effects;
+        e.viscous_power = Some(fx::ViscousPower {
             exponent: 1.5,
             reference_velocity: 0.02,
         });
-        outside.push(power);
+        e.load_dependence = Some(fx::LoadDependence::power(2e-6, 1e7, 1.0));
+        e.position_dependence = Some(fx::PositionDependence::linear(300.0, 0.0));
+        let rule = crate::diagnose::fit::DWELL_RULES[0];
+        e.dwell_stiction = Some(fx::DwellStiction {
+            max_increase: 40.0,
+            time_constant: 0.5,
+            stick_velocity: rule.stick_velocity(),
+            renewal_distance: 1e-4,
+            age_at_stick: rule.age,
+            clock: rule.clock,
+            growth: rule.growth,
+        });
+        outside.push(others);
         for o in &outside {
             assert_eq!(DecayKey::of(o), DecayKey::of(&m), "{o:?}");
             assert_eq!(bits(&o.stribeck_decay(&p)), same, "{o:?}");
@@ -190,16 +216,28 @@ mod tests {
         let mut vs = m;
         vs.friction.params = LugreParams::new(1e7, 300.0, 800.0, 100.0, 150.0, 0.005).unwrap();
         inside.push(vs);
-        let mut shape = m;
-        if let Some(s) = shape.friction.effects.stribeck_shape.as_mut() {
-            s.tail_share = 0.4;
+        for change in [
+            |s: &mut fx::StribeckShape<f64>| s.exponent = 1.8,
+            |s: &mut fx::StribeckShape<f64>| s.tail_share = 0.4,
+            |s: &mut fx::StribeckShape<f64>| s.tail_scale = 3.0,
+        ] {
+            let mut shape = m;
+            if let Some(s) = shape.friction.effects.stribeck_shape.as_mut() {
+                change(s);
+            }
+            inside.push(shape);
         }
-        inside.push(shape);
-        let mut warm = m;
-        if let Some(t) = warm.friction.effects.temperature_dependence.as_mut() {
-            t.stribeck_hersey_exponent = 0.8;
+        for change in [
+            |t: &mut fx::TemperatureDependence<f64>| t.viscous_per_kelvin = 0.03,
+            |t: &mut fx::TemperatureDependence<f64>| t.reference_temperature = 25.0,
+            |t: &mut fx::TemperatureDependence<f64>| t.stribeck_hersey_exponent = 0.8,
+        ] {
+            let mut warm = m;
+            if let Some(t) = warm.friction.effects.temperature_dependence.as_mut() {
+                change(t);
+            }
+            inside.push(warm);
         }
-        inside.push(warm);
         let mut ratio = m;
         if let Some(a) = ratio.friction.effects.asymmetry.as_mut() {
             a.stribeck_velocity_ratio = -0.1;
