@@ -1609,7 +1609,8 @@ pub const FORCE_READING_MIN_CUT: f64 = 0.25;
 /// erred 1.91 % against 1.93 %, and viscous power was named at dBIC 3233; searched, +0.5 errs
 /// 0.33 % and nothing is named (session 94). The logged reading gets the same search, so that
 /// what a search gains anywhere is not counted as the skew's (on used 4937 it took the logged
-/// baseline from 0.256 to 0.198 % as it took +0.5). A sampled loop
+/// baseline from 0.256 to 0.198 % as it took +0.5), where `base` alone would let a reading pass
+/// ([`reading_passes`]; elsewhere its answer cannot matter). A sampled loop
 /// holds each force over a period, and a logger may write beside a position the force of the
 /// period before (`+0.5`) or the one commanded for the period after (`-0.5`); where the force
 /// changes fast the skew leaves `skew dt dF/dt` in every model's residual, the true model's
