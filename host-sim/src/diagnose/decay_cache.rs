@@ -146,50 +146,37 @@ mod tests {
         }
     }
 
-    fn bits(d: &[f64]) -> Vec<u64> {
-        d.iter().map(|v| v.to_bits()).collect()
+    /// [`model`]'s Stribeck shape, temperature dependence and asymmetry, to change a part of.
+    fn shape_of(m: &mut AxisModel) -> &mut fx::StribeckShape<f64> {
+        m.friction
+            .effects
+            .stribeck_shape
+            .as_mut()
+            .expect("model() has one")
     }
 
-    /// A model that differs only outside the key (in its levels, mass, bristle, the asymmetry's
-    /// level ratios, the temperature's Coulomb factor, or any other effect) has the same decay
-    /// bit for bit, so that the cache may hand it over; each part of the key moves it.
-    #[test]
-    fn the_decay_reads_nothing_outside_its_key() {
-        let p = record(1.0);
-        let m = model();
-        let same = bits(&m.stribeck_decay(&p));
-        let mut outside = Vec::new();
-        let mut levels = m;
-        levels.friction.params = m.friction.params.with_levels(900.0, 120.0, 170.0).unwrap();
-        outside.push(levels);
-        let mut heavier = m;
-        heavier.mass_kg = 80.0;
-        outside.push(heavier);
-        let mut asym = m;
-        if let Some(a) = asym.friction.effects.asymmetry.as_mut() {
-            a.coulomb_ratio = -0.2;
-            a.static_ratio = 0.1;
-            a.viscous_ratio = -0.3;
-        }
-        outside.push(asym);
-        let mut offset = m;
-        offset.friction.effects.offset = None;
-        outside.push(offset);
-        let mut bristle = m;
-        bristle.friction.params = LugreParams::new(4e7, 900.0, 800.0, 100.0, 150.0, 0.004).unwrap();
-        outside.push(bristle);
-        let mut coulomb_warm = m;
-        if let Some(t) = coulomb_warm
-            .friction
+    fn temperature_of(m: &mut AxisModel) -> &mut fx::TemperatureDependence<f64> {
+        (m.friction.effects.temperature_dependence.as_mut()).expect("model() has one")
+    }
+
+    fn asymmetry_of(m: &mut AxisModel) -> &mut fx::Asymmetry<f64> {
+        m.friction
             .effects
-            .temperature_dependence
+            .asymmetry
             .as_mut()
-        {
-            t.coulomb_per_kelvin = 0.01;
-        }
-        outside.push(coulomb_warm);
-        let mut others = m;
-        let e = &mut others.friction.effects;
+            .expect("model() has one")
+    }
+
+    /// `m` with `change` made.
+    fn changed(m: AxisModel, change: fn(&mut AxisModel)) -> AxisModel {
+        let mut changed = m;
+        change(&mut changed);
+        changed
+    }
+
+    /// The effects [`model`] lacks, added: viscous power, load, position and dwell.
+    fn with_every_other_effect(m: &mut AxisModel) {
+        let e = &mut m.friction.effects;
         e.viscous_power = Some(fx::ViscousPower {
             exponent: 1.5,
             reference_velocity: 0.02,
@@ -206,43 +193,53 @@ mod tests {
             clock: rule.clock,
             growth: rule.growth,
         });
-        outside.push(others);
+    }
+
+    fn bits(d: &[f64]) -> Vec<u64> {
+        d.iter().map(|v| v.to_bits()).collect()
+    }
+
+    /// A model that differs only outside the key (in its levels, mass, bristle, the asymmetry's
+    /// level ratios, the temperature's Coulomb factor, or any other effect) has the same decay
+    /// bit for bit, so that the cache may hand it over; each part of the key moves it.
+    #[test]
+    fn the_decay_reads_nothing_outside_its_key() {
+        let p = record(1.0);
+        let m = model();
+        let same = bits(&m.stribeck_decay(&p));
+        let outside: [fn(&mut AxisModel); 7] = [
+            |m| m.friction.params = m.friction.params.with_levels(900.0, 120.0, 170.0).unwrap(),
+            |m| m.mass_kg = 80.0,
+            |m| {
+                m.friction.params = LugreParams::new(4e7, 900.0, 800.0, 100.0, 150.0, 4e-3).unwrap()
+            },
+            |m| {
+                let a = asymmetry_of(m);
+                (a.coulomb_ratio, a.static_ratio, a.viscous_ratio) = (-0.2, 0.1, -0.3);
+            },
+            |m| temperature_of(m).coulomb_per_kelvin = 0.01,
+            |m| m.friction.effects.offset = None,
+            with_every_other_effect,
+        ];
+        let outside = outside.map(|change| changed(m, change));
         for o in &outside {
             assert_eq!(DecayKey::of(o), DecayKey::of(&m), "{o:?}");
             assert_eq!(bits(&o.stribeck_decay(&p)), same, "{o:?}");
         }
-        // every field of the key moves the decay
-        let mut inside = Vec::new();
-        let mut vs = m;
-        vs.friction.params = LugreParams::new(1e7, 300.0, 800.0, 100.0, 150.0, 0.005).unwrap();
-        inside.push(vs);
-        for change in [
-            |s: &mut fx::StribeckShape<f64>| s.exponent = 1.8,
-            |s: &mut fx::StribeckShape<f64>| s.tail_share = 0.4,
-            |s: &mut fx::StribeckShape<f64>| s.tail_scale = 3.0,
-        ] {
-            let mut shape = m;
-            if let Some(s) = shape.friction.effects.stribeck_shape.as_mut() {
-                change(s);
-            }
-            inside.push(shape);
-        }
-        for change in [
-            |t: &mut fx::TemperatureDependence<f64>| t.viscous_per_kelvin = 0.03,
-            |t: &mut fx::TemperatureDependence<f64>| t.reference_temperature = 25.0,
-            |t: &mut fx::TemperatureDependence<f64>| t.stribeck_hersey_exponent = 0.8,
-        ] {
-            let mut warm = m;
-            if let Some(t) = warm.friction.effects.temperature_dependence.as_mut() {
-                change(t);
-            }
-            inside.push(warm);
-        }
-        let mut ratio = m;
-        if let Some(a) = ratio.friction.effects.asymmetry.as_mut() {
-            a.stribeck_velocity_ratio = -0.1;
-        }
-        inside.push(ratio);
+        // every part of the key moves the decay (each a part [`model`] has)
+        let inside: [fn(&mut AxisModel); 8] = [
+            |m| {
+                m.friction.params = LugreParams::new(1e7, 300.0, 800.0, 100.0, 150.0, 5e-3).unwrap()
+            },
+            |m| shape_of(m).exponent = 1.8,
+            |m| shape_of(m).tail_share = 0.4,
+            |m| shape_of(m).tail_scale = 3.0,
+            |m| temperature_of(m).viscous_per_kelvin = 0.03,
+            |m| temperature_of(m).reference_temperature = 25.0,
+            |m| temperature_of(m).stribeck_hersey_exponent = 0.8,
+            |m| asymmetry_of(m).stribeck_velocity_ratio = -0.1,
+        ];
+        let inside = inside.map(|change| changed(m, change));
         for i in &inside {
             assert_ne!(DecayKey::of(i), DecayKey::of(&m), "{i:?}");
             assert_ne!(bits(&i.stribeck_decay(&p)), same, "{i:?}");

@@ -283,7 +283,13 @@ impl Fitting<'_> {
         refit_iterations(seed, p, m, None, n, 8, Jacobian::Rebuilt, self.decays)
     }
 
-    /// [`refit_quick`] of `seed` on this record.
+    /// A cheaper refit for grid searches: at most 3 Levenberg-Marquardt iterations, the Jacobian
+    /// built once and moved to each accepted model (chord steps): enough to rank grid points. Its
+    /// standard errors are those of the columns at `seed` (the mass and sigma1 intervals that
+    /// decide whether they are held at zero, `diagnose::mark_unidentified_linear`); an effect's
+    /// grid winner is finished with [`refit`]. (Building the columns was half of a diagnosis's
+    /// CPU time; chord steps cut the diagnosis's time to 0.76 of Gauss-Newton's, with the same
+    /// answer on every one of 200 independent records, session 37.)
     pub fn refit_quick(&self, seed: &AxisModel) -> Fit {
         let (p, m, n) = (self.p, self.fixed_mass, self.n_eff);
         refit_iterations(seed, p, m, None, n, 3, Jacobian::Frozen, self.decays)
@@ -293,17 +299,14 @@ impl Fitting<'_> {
 /// Refits every linear parameter of `seed` (its effects and nonlinear parameters fixed).
 /// `fixed_mass` keeps M as given.
 pub fn refit(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
-    let decays = DecayCache::new(p);
-    refit_iterations(
-        seed,
+    let decays = &DecayCache::new(p);
+    Fitting {
         p,
         fixed_mass,
-        None,
         n_eff,
-        8,
-        Jacobian::Rebuilt,
-        &decays,
-    )
+        decays,
+    }
+    .refit(seed)
 }
 
 /// [`refit`] with the viscous coefficient held at `viscous_n_s_per_m` \[N s/m\] (it leaves the
@@ -316,8 +319,7 @@ pub fn refit_holding_viscous(
     viscous_n_s_per_m: f64,
     n_eff: f64,
 ) -> Fit {
-    let decays = DecayCache::new(p);
-    let held = Some(viscous_n_s_per_m);
+    let (decays, held) = (DecayCache::new(p), Some(viscous_n_s_per_m));
     refit_iterations(
         seed,
         p,
@@ -326,27 +328,6 @@ pub fn refit_holding_viscous(
         n_eff,
         8,
         Jacobian::Rebuilt,
-        &decays,
-    )
-}
-
-/// A cheaper refit for grid searches: at most 3 Levenberg-Marquardt iterations, the Jacobian
-/// built once and moved to each accepted model (chord steps): enough to rank grid points. Its
-/// standard errors are those of the columns at `seed` (the mass and sigma1 intervals that
-/// decide whether they are held at zero, `diagnose::mark_unidentified_linear`); an effect's
-/// grid winner is finished with [`refit`]. (Building the columns was half of a diagnosis's
-/// CPU time; chord steps cut the diagnosis's time to 0.76 of Gauss-Newton's, with the same
-/// answer on every one of 200 independent records, session 37.)
-pub fn refit_quick(seed: &AxisModel, p: &Prepared, fixed_mass: Option<f64>, n_eff: f64) -> Fit {
-    let decays = DecayCache::new(p);
-    refit_iterations(
-        seed,
-        p,
-        fixed_mass,
-        None,
-        n_eff,
-        3,
-        Jacobian::Frozen,
         &decays,
     )
 }

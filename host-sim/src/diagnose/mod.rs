@@ -1840,7 +1840,6 @@ pub fn validate(model: &AxisModel, rec: &Record, name: &str, protocol: Protocol)
 mod tests {
     use super::*;
 
-    /// A value a rounding error below zero prints as 0.0, not -0.0; others keep their tenths.
     /// The log's search is skipped only where its answer could not matter: on every
     /// combination of errors (NaN and infinities among them) the choice and the bar are those
     /// of searching the log first.
@@ -1879,6 +1878,7 @@ mod tests {
         assert!(skipped > 300, "{skipped}");
     }
 
+    /// A value a rounding error below zero prints as 0.0, not -0.0; others keep their tenths.
     #[test]
     fn tenths_print_without_a_negative_zero() {
         assert_eq!(format!("{:.1}", tenths(-1e-13)), "0.0");
